@@ -1,0 +1,63 @@
+"""cphysfno: composite physics-neural operators for seismic response prediction."""
+
+from .composite import CompositeModel, Prediction, compose
+from .config import ComponentSpec, ExperimentConfig, TrainingConfig, load_config, parse_config
+from .data import Dataset, generate_dataset, load_dataset
+from .errors import (
+    CapabilityError,
+    ConfigError,
+    CphysfnoError,
+    DatasetError,
+    InputError,
+    NotFittedError,
+    RegistryError,
+)
+from .hookspecs import hookimpl
+from .interfaces import (
+    GroundMotionSource,
+    NeuralOperator,
+    Params,
+    PhysicsPreprocessor,
+    Refiner,
+    RestoringForce,
+    Structure,
+)
+from .registry import Registry, create, get_registry
+from .signals import GroundMotions, LinearSystem, Responses
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ComponentSpec",
+    "CompositeModel",
+    "Dataset",
+    "ExperimentConfig",
+    "Prediction",
+    "TrainingConfig",
+    "compose",
+    "generate_dataset",
+    "load_config",
+    "load_dataset",
+    "parse_config",
+    "CapabilityError",
+    "ConfigError",
+    "CphysfnoError",
+    "DatasetError",
+    "GroundMotionSource",
+    "GroundMotions",
+    "InputError",
+    "LinearSystem",
+    "NeuralOperator",
+    "NotFittedError",
+    "Params",
+    "PhysicsPreprocessor",
+    "Refiner",
+    "Registry",
+    "RegistryError",
+    "Responses",
+    "RestoringForce",
+    "Structure",
+    "create",
+    "get_registry",
+    "hookimpl",
+]

@@ -1,0 +1,121 @@
+"""Command line: ``cphysfno plugins | run | generate | train | evaluate``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+from .config import load_config
+from .errors import CphysfnoError
+from .registry import get_registry
+
+
+def _plugins(args: argparse.Namespace) -> int:
+    registry = get_registry()
+    by_kind: dict[str, list] = {}
+    for entry in registry.entries():
+        by_kind.setdefault(entry.kind, []).append(entry)
+    if args.json:
+        document = {
+            "components": [
+                {
+                    "kind": e.kind,
+                    "name": e.name,
+                    "distribution": e.distribution,
+                    "plugin": e.plugin,
+                    "parameters": e.parameters,
+                }
+                for e in registry.entries()
+            ],
+            "broken": [vars(b) for b in registry.broken],
+            "clashes": [
+                {"kind": k, "name": n, "providers": [e.distribution for e in entries]}
+                for (k, n), entries in registry.clashes().items()
+            ],
+        }
+        print(json.dumps(document, indent=2, default=str))
+        return 0
+    for kind, entries in by_kind.items():
+        print(f"{kind}:")
+        for e in entries:
+            print(f"  {e.name:<28} {e.distribution}")
+            params = ", ".join(f"{k}={v!r}" for k, v in e.parameters.items())
+            print(f"  {'':<28} parameters: {params or '(none)'}")
+    for (kind, name), entries in registry.clashes().items():
+        providers = " and ".join(e.distribution for e in entries)
+        print(f"clash: {kind} '{name}' is provided by {providers} (neither is usable)")
+    if registry.broken:
+        print("broken:")
+        for b in registry.broken:
+            print(f"  {b.plugin:<28} {b.distribution}: {b.error}")
+    return 0
+
+
+def _stage(args: argparse.Namespace) -> int:
+    from . import pipeline
+    from .report import format_table, write_report
+
+    config = load_config(args.config)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    started = time.perf_counter()
+    if args.command == "run":
+        evaluation = pipeline.run(config, out)
+    elif args.command == "generate":
+        pipeline.generate(config, out)
+        evaluation = None
+    elif args.command == "train":
+        pipeline.train(config, out)
+        evaluation = None
+    else:
+        evaluation = pipeline.evaluate(config, out)
+        write_report(config, evaluation, out)
+    if evaluation is not None:
+        names = list(evaluation.data.output_names)
+        print("relative L2 error per output (test split):")
+        print(format_table(evaluation.metrics, names))
+        print(f"\nmetrics: {out / 'metrics.json'}\nreport:  {out / 'report.md'}")
+    print(f"done in {time.perf_counter() - started:.1f} s", file=sys.stderr)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="cphysfno",
+        description="Composite physics-neural operators for seismic response prediction.",
+    )
+    commands = parser.add_subparsers(dest="command", required=True)
+    plugins = commands.add_parser("plugins", help="list registered components by kind")
+    plugins.add_argument("--json", action="store_true", help="machine-readable output")
+    plugins.set_defaults(func=_plugins)
+    stages = {
+        "run": "generate data, train every model, evaluate and write the report",
+        "generate": "simulate the dataset (resumes an interrupted run)",
+        "train": "train the models on the generated dataset",
+        "evaluate": "evaluate the trained models and write metrics.json and report.md",
+    }
+    for name, text in stages.items():
+        stage = commands.add_parser(name, help=text, description=text)
+        stage.add_argument("config", help="experiment TOML file")
+        stage.add_argument("--out", required=True, help="output folder")
+        stage.set_defaults(func=_stage)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except CphysfnoError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted: run the same command again to resume", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,386 @@
+"""The composite model: physics preprocessor H_p, normalisers, neural operator G_θ and an
+optional refiner, built from parts by name or instance, saved without pickled code."""
+
+from __future__ import annotations
+
+import copy
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from .config import ComponentSpec, TrainingConfig
+from .errors import ConfigError, DatasetError, InputError, NotFittedError
+from .interfaces import (
+    NeuralOperator,
+    PhysicsPreprocessor,
+    Refiner,
+    Structure,
+    validate_params,
+)
+from .registry import get_registry
+from .signals import GroundMotions
+from .training import EpochReport, Normalizer, TrainingHistory, print_progress, train_operator
+
+FORMAT = "cphysfno-composite"
+FORMAT_VERSION = 1
+PREDICT_CHUNK = 64
+
+PartLike = str | tuple[str, dict[str, Any]] | ComponentSpec | Any
+
+
+def model_label(operator: str, preprocessor: str | None = None, refined: bool = False) -> str:
+    """``fno`` for the baseline, ``c-physfno-els`` for FNO on the ELS response (in general
+    ``c-phys<operator>-<preprocessor>``), with ``refined-`` in front when refined."""
+    label = operator if preprocessor is None else f"c-phys{operator}-{preprocessor}"
+    return f"refined-{label}" if refined else label
+
+
+def _as_spec(part: str | tuple | ComponentSpec) -> ComponentSpec:
+    if isinstance(part, ComponentSpec):
+        return part
+    if isinstance(part, str):
+        return ComponentSpec.of(part)
+    if isinstance(part, tuple) and len(part) == 2 and isinstance(part[0], str):
+        return ComponentSpec.of(part[0], dict(part[1]))
+    raise ConfigError(f"a part is a name, a (name, params) pair or an instance, got {part!r}")
+
+
+def _resolve(kind: str, part: PartLike | None) -> Any:
+    """An instance of ``kind`` from a name, ``(name, params)``, spec or an instance."""
+    if part is None or not isinstance(part, (str, tuple, ComponentSpec)):
+        return part
+    spec = _as_spec(part)
+    return get_registry().create(kind, spec.name, **spec.params)
+
+
+def _spec_of(component: Any) -> dict[str, Any] | None:
+    if component is None:
+        return None
+    return {"name": component.name, **component.get_params()}
+
+
+@dataclass
+class Prediction:
+    """Every stage of a composite prediction, each ``[n, T, dof]`` in m (z None for a
+    baseline without physics)."""
+
+    z: np.ndarray | None
+    operator_output: np.ndarray
+    mean: np.ndarray
+    std: np.ndarray
+
+
+class CompositeModel:
+    """``a_g -> H_p -> z -> G_θ -> û -> refiner -> (mean, std)``.
+
+    Without a preprocessor it is the plain neural-operator baseline on ``[a_g, t]``.
+    Without a refiner, ``std`` is the operator's validation RMSE per DOF.
+
+    Build one with :func:`compose`; train with :meth:`fit`; :meth:`save` / :meth:`load`.
+    """
+
+    def __init__(
+        self,
+        operator: ComponentSpec | NeuralOperator,
+        structure: Structure | None = None,
+        preprocessor: PhysicsPreprocessor | None = None,
+        refiner: Refiner | None = None,
+        training: TrainingConfig | None = None,
+    ) -> None:
+        if preprocessor is not None and structure is None:
+            raise ConfigError("a physics preprocessor needs the structure it simplifies")
+        self.structure = structure
+        self.preprocessor = preprocessor
+        self.refiner = refiner
+        self.training = training or TrainingConfig()
+        if isinstance(operator, NeuralOperator):
+            self.operator_spec = ComponentSpec.of(operator.name, operator.get_params())
+            self.operator_ = operator
+        else:
+            self.operator_spec = operator
+            self.operator_ = None
+        if preprocessor is not None:
+            preprocessor.fit(structure)
+
+    @property
+    def label(self) -> str:
+        """Name of this model in reports (see :func:`model_label`)."""
+        preprocessor = None if self.preprocessor is None else self.preprocessor.name
+        return model_label(self.operator_spec.name, preprocessor, self.refiner is not None)
+
+    # -- features --------------------------------------------------------------------
+    def physics(self, motions: GroundMotions) -> np.ndarray | None:
+        """``[n, T, dof]`` intermediate response z in m (None for the baseline)."""
+        if self.preprocessor is None:
+            return None
+        return self.preprocessor.transform(motions)
+
+    def _inputs(self, motions: GroundMotions, z: np.ndarray | None) -> np.ndarray:
+        signal = motions.acceleration[:, :, None] if z is None else z
+        if signal.shape[:2] != motions.acceleration.shape:
+            raise InputError(
+                f"physics response {signal.shape} does not match motions "
+                f"{motions.acceleration.shape}"
+            )
+        time = np.broadcast_to(motions.time[None, :, None], (*signal.shape[:2], 1))
+        return np.concatenate([signal, time], axis=2)
+
+    def _build_operator(self, in_channels: int, out_channels: int) -> NeuralOperator:
+        spec = self.operator_spec
+        return get_registry().create(
+            "operator",
+            spec.name,
+            in_channels=in_channels,
+            out_channels=out_channels,
+            **spec.params,
+        )
+
+    # -- training --------------------------------------------------------------------
+    def fit(
+        self,
+        motions: GroundMotions,
+        u: np.ndarray,
+        validation: tuple[GroundMotions, np.ndarray],
+        *,
+        epochs: int | None = None,
+        z: np.ndarray | None = None,
+        validation_z: np.ndarray | None = None,
+        progress: Callable[[EpochReport], None] | None = print_progress,
+        **training: Any,
+    ) -> CompositeModel:
+        """Train the operator (and the refiner, if any) on ``motions -> u``.
+
+        Args:
+            motions: training ground motions ``[n, T]``.
+            u: training displacements ``[n, T, dof]`` in m.
+            validation: ``(motions, u)`` of the validation split, which picks the epoch.
+            epochs: overrides ``training.epochs``; further keywords override other
+                :class:`TrainingConfig` fields (``batch_size``, ``learning_rate``, ...).
+            z, validation_z: precomputed physics responses (skip the preprocessor).
+            progress: per-epoch callback (None for silence).
+        """
+        val_motions, val_u = validation
+        u = self._check_targets(motions, u, "u")
+        val_u = self._check_targets(val_motions, val_u, "validation u")
+        overrides = {**training, **({"epochs": epochs} if epochs is not None else {})}
+        if overrides:
+            self.training = self.training.model_copy(update=overrides)
+            TrainingConfig.model_validate(self.training.model_dump())
+        if self.preprocessor is not None:
+            z = self.physics(motions) if z is None else z
+            validation_z = self.physics(val_motions) if validation_z is None else validation_z
+        x_train = self._inputs(motions, z)
+        x_val = self._inputs(val_motions, validation_z)
+        self.input_normalizer_ = Normalizer.fit(x_train)
+        self.output_normalizer_ = Normalizer.fit(u)
+        torch.manual_seed(self.training.seed)
+        if self.operator_ is None:
+            self.operator_ = self._build_operator(x_train.shape[2], u.shape[2])
+        self.history_: TrainingHistory = train_operator(
+            self.operator_,
+            self.input_normalizer_.encode(x_train),
+            u,
+            self.input_normalizer_.encode(x_val),
+            val_u,
+            self.output_normalizer_,
+            self.training,
+            progress,
+        )
+        val_hat = self._run_operator(x_val)
+        self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_u) ** 2, axis=(0, 1)))
+        if self.refiner is not None:
+            self.refiner.fit(
+                z, self._run_operator(x_train), u, np.random.default_rng(self.training.seed)
+            )
+        return self
+
+    def refine(
+        self,
+        refiner: PartLike,
+        motions: GroundMotions,
+        u: np.ndarray,
+        z: np.ndarray | None = None,
+        seed: int | None = None,
+    ) -> CompositeModel:
+        """A copy of this trained model with ``refiner`` fitted on ``(motions, u)``."""
+        self._check_fitted()
+        if self.preprocessor is None:
+            raise ConfigError("a refiner works on the physics response z: the baseline has none")
+        refined = copy.copy(self)
+        refined.refiner = _resolve("refiner", refiner)
+        z = self.physics(motions) if z is None else z
+        u_hat = self._run_operator(self._inputs(motions, z))
+        rng = np.random.default_rng(self.training.seed if seed is None else seed)
+        refined.refiner.fit(z, u_hat, self._check_targets(motions, u, "u"), rng)
+        return refined
+
+    def _check_targets(self, motions: GroundMotions, u: np.ndarray, what: str) -> np.ndarray:
+        u = np.asarray(u, dtype=np.float64)
+        if u.ndim != 3 or u.shape[:2] != motions.acceleration.shape:
+            raise InputError(
+                f"{what} must be [n_records, n_steps, dof] matching the motions "
+                f"{motions.acceleration.shape}, got {u.shape}"
+            )
+        if self.structure is not None and u.shape[2] != self.structure.n_outputs:
+            raise InputError(
+                f"{what} has {u.shape[2]} outputs but structure '{self.structure.name}' has "
+                f"{self.structure.n_outputs}"
+            )
+        if not np.isfinite(u).all():
+            raise InputError(f"{what} holds NaN or Inf")
+        return u
+
+    # -- prediction ------------------------------------------------------------------
+    def _check_fitted(self) -> None:
+        if getattr(self, "operator_", None) is None or not hasattr(self, "input_normalizer_"):
+            raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
+
+    def _run_operator(self, inputs: np.ndarray) -> np.ndarray:
+        """Decoded operator output ``[n, T, dof]`` (float64, m), in chunks of records."""
+        out = []
+        self.operator_.eval()
+        with torch.no_grad():
+            for start in range(0, inputs.shape[0], PREDICT_CHUNK):
+                x = torch.as_tensor(
+                    self.input_normalizer_.encode(inputs[start : start + PREDICT_CHUNK])
+                )
+                y = self.output_normalizer_.decode_torch(self.operator_(x))
+                out.append(y.double().numpy())
+        return np.concatenate(out, axis=0)
+
+    def predict_stages(self, motions: GroundMotions, z: np.ndarray | None = None) -> Prediction:
+        """Every stage of the prediction for ``motions`` (z may be given precomputed)."""
+        self._check_fitted()
+        if self.preprocessor is not None and z is None:
+            z = self.physics(motions)
+        operator_output = self._run_operator(self._inputs(motions, z))
+        if self.refiner is not None:
+            mean, std = self.refiner.predict(z, operator_output)
+        else:
+            mean = operator_output
+            std = np.broadcast_to(self.validation_rmse_, mean.shape).copy()
+        return Prediction(z, operator_output, mean, std)
+
+    def predict(self, motions: GroundMotions) -> tuple[np.ndarray, np.ndarray]:
+        """Predicted displacement ``(mean, std)``, each ``[n, T, dof]`` in m."""
+        stages = self.predict_stages(motions)
+        return stages.mean, stages.std
+
+    # -- persistence -----------------------------------------------------------------
+    def save(self, directory: str | Path) -> Path:
+        """Write ``model.json`` (parts by name and parameters), ``operator.pt`` (tensors
+        only) and ``arrays.npz`` (normalisers, refiner state) into ``directory``."""
+        self._check_fitted()
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        description = {
+            "format": FORMAT,
+            "format_version": FORMAT_VERSION,
+            "label": self.label,
+            "structure": _spec_of(self.structure),
+            "preprocessor": _spec_of(self.preprocessor),
+            "refiner": _spec_of(self.refiner),
+            "operator": {
+                **self.operator_spec.to_dict(),
+                "in_channels": self.operator_.in_channels,
+                "out_channels": self.operator_.out_channels,
+            },
+            "training": self.training.model_dump(mode="json"),
+            "history": self.history_.to_dict(),
+        }
+        arrays = {
+            "input_mean": self.input_normalizer_.mean,
+            "input_std": self.input_normalizer_.std,
+            "output_mean": self.output_normalizer_.mean,
+            "output_std": self.output_normalizer_.std,
+            "validation_rmse": self.validation_rmse_,
+        }
+        if self.refiner is not None:
+            arrays.update({f"refiner.{k}": v for k, v in self.refiner.state_dict().items()})
+        torch.save(self.operator_.state_dict(), directory / "operator.pt")
+        np.savez(directory / "arrays.npz", **arrays)
+        (directory / "model.json").write_text(json.dumps(description, indent=2))
+        return directory
+
+    @classmethod
+    def load(cls, directory: str | Path) -> CompositeModel:
+        """Rebuild a saved model from its parts' names and parameters; no code is unpickled."""
+        directory = Path(directory)
+        try:
+            description = json.loads((directory / "model.json").read_text())
+        except (OSError, json.JSONDecodeError) as error:
+            raise DatasetError(f"{directory} holds no readable model.json: {error}") from None
+        if description.get("format") != FORMAT:
+            raise DatasetError(f"{directory}/model.json is not a {FORMAT} model")
+        registry = get_registry()
+
+        def build(kind: str, spec: dict | None) -> Any:
+            if spec is None:
+                return None
+            spec = dict(spec)
+            return registry.create(kind, spec.pop("name"), **spec)
+
+        operator_spec = dict(description["operator"])
+        in_channels = operator_spec.pop("in_channels")
+        out_channels = operator_spec.pop("out_channels")
+        operator = build(
+            "operator", {**operator_spec, "in_channels": in_channels, "out_channels": out_channels}
+        )
+        try:
+            state = torch.load(directory / "operator.pt", weights_only=True, map_location="cpu")
+            operator.load_state_dict(state)
+            arrays = dict(np.load(directory / "arrays.npz", allow_pickle=False))
+        except Exception as error:
+            raise DatasetError(f"{directory}: cannot load the model's weights: {error}") from None
+        model = cls(
+            operator,
+            structure=build("structure", description["structure"]),
+            preprocessor=build("preprocessor", description["preprocessor"]),
+            refiner=build("refiner", description["refiner"]),
+            training=TrainingConfig.model_validate(description["training"]),
+        )
+        model.input_normalizer_ = Normalizer(arrays["input_mean"], arrays["input_std"])
+        model.output_normalizer_ = Normalizer(arrays["output_mean"], arrays["output_std"])
+        model.validation_rmse_ = arrays["validation_rmse"]
+        history = description.get("history", {})
+        model.history_ = TrainingHistory(**history) if history else TrainingHistory()
+        if model.refiner is not None:
+            prefix = "refiner."
+            model.refiner.load_state_dict(
+                {k[len(prefix) :]: v for k, v in arrays.items() if k.startswith(prefix)}
+            )
+        operator.eval()
+        return model
+
+
+def compose(
+    *,
+    operator: PartLike,
+    structure: PartLike | None = None,
+    preprocessor: PartLike | None = None,
+    refiner: PartLike | None = None,
+    training: TrainingConfig | dict[str, Any] | None = None,
+) -> CompositeModel:
+    """Assemble an untrained :class:`CompositeModel` from parts given by name,
+    ``(name, params)``, or as instances, mixed freely.
+
+    The preprocessor is fitted to the structure here, so a missing capability fails now,
+    before any training.
+    """
+    if isinstance(training, dict):
+        training = TrainingConfig.model_validate(training)
+    op = operator if isinstance(operator, NeuralOperator) else _as_spec(operator)
+    if isinstance(op, ComponentSpec):
+        validate_params(get_registry().get("operator", op.name).Params, op.params, "operator")
+    return CompositeModel(
+        op,
+        structure=_resolve("structure", structure),
+        preprocessor=_resolve("preprocessor", preprocessor),
+        refiner=_resolve("refiner", refiner),
+        training=training,
+    )

@@ -1,0 +1,173 @@
+"""Experiment configuration: one TOML file, validated with pydantic before any work starts.
+
+Each component section is ``name = "..."`` plus that component's own fields, which are
+checked against the component's ``Params`` model once plugins are discovered, so a wrong
+field fails with its path (``operator.modes: ...``).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from .errors import ConfigError
+from .interfaces import format_validation_error, validate_params
+from .registry import Registry, get_registry
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class ComponentSpec(BaseModel):
+    """A component by registry name with its parameters (all other keys of the section)."""
+
+    model_config = ConfigDict(extra="allow")
+
+    name: str = Field(min_length=1)
+
+    @property
+    def params(self) -> dict[str, Any]:
+        return dict(self.model_extra or {})
+
+    @classmethod
+    def of(cls, name: str, params: dict[str, Any] | None = None) -> ComponentSpec:
+        return cls(name=name, **(params or {}))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, **self.params}
+
+
+class DataConfig(_Strict):
+    """How many records to simulate, how to split them, and how to run the simulations."""
+
+    n_train: int = Field(400, gt=0)
+    n_val: int = Field(100, gt=0)
+    n_test: int = Field(200, gt=0)
+    seed: int = 0
+    chunk_size: int = Field(100, gt=0, description="records per simulation task")
+    executor: Literal["serial", "processes"] = "processes"
+    workers: int | None = Field(None, gt=0, description="processes; default: CPU count")
+
+    @property
+    def n_records(self) -> int:
+        return self.n_train + self.n_val + self.n_test
+
+
+class TrainingConfig(_Strict):
+    """Optimiser and schedule (paper: Adam 1e-3, batch 20, halve the rate every 10 epochs)."""
+
+    epochs: int = Field(100, gt=0)
+    batch_size: int = Field(20, gt=0)
+    learning_rate: float = Field(1e-3, gt=0)
+    decay_step: int = Field(10, gt=0, description="epochs between learning-rate decays")
+    decay_factor: float = Field(0.5, gt=0, le=1)
+    weight_decay: float = Field(0.0, ge=0)
+    loss: Literal["relative-l2"] = "relative-l2"
+    seed: int = 0
+    threads: int | None = Field(None, gt=0, description="torch CPU threads; default: all")
+
+
+class OutputConfig(_Strict):
+    """What the run trains and writes."""
+
+    baseline: bool = Field(True, description="also train the plain operator on [a_g, t]")
+    figures: bool = True
+    paper_reference: Literal["example1", "none"] = "none"
+
+
+class ExperimentConfig(_Strict):
+    """A whole study: structure, excitation, physics preprocessors, operator, refiner."""
+
+    structure: ComponentSpec
+    ground_motion: ComponentSpec
+    preprocessor: list[ComponentSpec] = Field(default_factory=list)
+    operator: ComponentSpec
+    refiner: ComponentSpec | None = None
+    data: DataConfig = Field(default_factory=DataConfig)
+    training: TrainingConfig = Field(default_factory=TrainingConfig)
+    output: OutputConfig = Field(default_factory=OutputConfig)
+
+    @field_validator("preprocessor", mode="before")
+    @classmethod
+    def _one_or_many(cls, value: Any) -> Any:
+        return [value] if isinstance(value, dict) else value
+
+    @model_validator(mode="after")
+    def _distinct_preprocessors(self) -> ExperimentConfig:
+        names = [p.name for p in self.preprocessor]
+        if len(set(names)) != len(names):
+            raise ValueError(f"each preprocessor may appear once, got {names}")
+        if not names and not self.output.baseline:
+            raise ValueError("nothing to train: add a [[preprocessor]] or set output.baseline")
+        return self
+
+    def to_dict(self) -> dict[str, Any]:
+        data = self.model_dump(
+            mode="json",
+            exclude={"structure", "ground_motion", "operator", "refiner", "preprocessor"},
+        )
+        data["structure"] = self.structure.to_dict()
+        data["ground_motion"] = self.ground_motion.to_dict()
+        data["operator"] = self.operator.to_dict()
+        data["preprocessor"] = [p.to_dict() for p in self.preprocessor]
+        if self.refiner is not None:
+            data["refiner"] = self.refiner.to_dict()
+        return data
+
+
+_SECTION_KIND = {
+    "structure": "structure",
+    "ground_motion": "ground_motion",
+    "operator": "operator",
+    "refiner": "refiner",
+}
+
+
+def check_components(config: ExperimentConfig, registry: Registry | None = None) -> None:
+    """Check every component name and its fields against the registry; raise ConfigError."""
+    registry = registry or get_registry()
+    sections: list[tuple[str, str, ComponentSpec]] = []
+    for section, kind in _SECTION_KIND.items():
+        spec = getattr(config, section)
+        if spec is not None:
+            sections.append((section, kind, spec))
+    for i, spec in enumerate(config.preprocessor):
+        where = "preprocessor" if len(config.preprocessor) == 1 else f"preprocessor[{i}]"
+        sections.append((where, "preprocessor", spec))
+    for where, kind, spec in sections:
+        try:
+            cls = registry.get(kind, spec.name)
+        except LookupError as error:
+            raise ConfigError(f"{where}.name: {error}") from None
+        validate_params(cls.Params, spec.params, where)
+
+
+def parse_config(data: dict[str, Any], registry: Registry | None = None) -> ExperimentConfig:
+    """Validate a config mapping (as read from TOML); every problem names its field."""
+    try:
+        config = ExperimentConfig.model_validate(data)
+    except ValidationError as error:
+        raise ConfigError(format_validation_error(error)) from None
+    check_components(config, registry)
+    return config
+
+
+def load_config(path: str | Path, registry: Registry | None = None) -> ExperimentConfig:
+    """Read and validate an experiment TOML file."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as error:
+        raise ConfigError(f"cannot read config {path}: {error.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise ConfigError(f"{path} is not valid TOML: {error}") from None
+    try:
+        return parse_config(data, registry)
+    except ConfigError as error:
+        raise ConfigError(f"{path}: {error}") from None

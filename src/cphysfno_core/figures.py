@@ -1,0 +1,175 @@
+"""Figures of a study (the paper's Figs. 2b–7), each written to a PNG file.
+
+Time histories are ``[T]`` or ``[T, dof]`` arrays in m with their time vector in s.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from scipy.signal import welch  # noqa: E402
+
+DPI = 130
+
+
+def _save(fig, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def trajectories(
+    time: np.ndarray,
+    truth: np.ndarray,
+    prediction: np.ndarray,
+    names: list[str],
+    label: str,
+    path: Path,
+) -> Path:
+    """Predicted vs true displacement of every DOF (left) and the absolute error (right)."""
+    n = truth.shape[1]
+    fig, axes = plt.subplots(n, 2, figsize=(11, 1.6 * n + 1), sharex=True, squeeze=False)
+    for i in range(n):
+        ax = axes[n - 1 - i, 0]
+        ax.plot(time, truth[:, i], color="k", lw=0.9, label="truth")
+        ax.plot(time, prediction[:, i], color="tab:red", lw=0.8, ls="--", label=label)
+        ax.set_ylabel(f"{names[i]}\nu (m)")
+        err = axes[n - 1 - i, 1]
+        err.plot(time, np.abs(truth[:, i] - prediction[:, i]), color="tab:blue", lw=0.7)
+        err.set_ylabel("|u - û| (m)")
+    axes[0, 0].legend(loc="upper right", fontsize=8)
+    axes[0, 0].set_title("displacement")
+    axes[0, 1].set_title("absolute error")
+    axes[-1, 0].set_xlabel("t (s)")
+    axes[-1, 1].set_xlabel("t (s)")
+    return _save(fig, path)
+
+
+def model_comparison(
+    time: np.ndarray,
+    truth: np.ndarray,
+    predictions: dict[str, np.ndarray],
+    name: str,
+    path: Path,
+) -> Path:
+    """One DOF (usually the top story) predicted by every model, one panel per model."""
+    labels = list(predictions)
+    fig, axes = plt.subplots(
+        len(labels), 1, figsize=(10, 1.7 * len(labels) + 0.8), sharex=True, squeeze=False
+    )
+    for ax, label in zip(axes[:, 0], labels, strict=True):
+        ax.plot(time, truth, color="k", lw=0.9, label="truth")
+        ax.plot(time, predictions[label], color="tab:red", lw=0.8, ls="--", label=label)
+        ax.set_ylabel("u (m)")
+        ax.legend(loc="upper right", fontsize=8)
+    axes[0, 0].set_title(f"{name}: all models, one test record")
+    axes[-1, 0].set_xlabel("t (s)")
+    return _save(fig, path)
+
+
+def refined_band(
+    time: np.ndarray,
+    truth: np.ndarray,
+    mean: np.ndarray,
+    std: np.ndarray,
+    label: str,
+    name: str,
+    path: Path,
+) -> Path:
+    """Refined mean with its ±1σ band against the truth."""
+    fig, ax = plt.subplots(figsize=(10, 3.2))
+    ax.fill_between(time, mean - std, mean + std, color="tab:orange", alpha=0.35, label="±1σ")
+    ax.plot(time, truth, color="k", lw=0.9, label="truth")
+    ax.plot(time, mean, color="tab:red", lw=0.8, ls="--", label=f"{label} mean")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(f"{name} u (m)")
+    ax.legend(loc="upper right", fontsize=8)
+    return _save(fig, path)
+
+
+def peaks(
+    true_peak: np.ndarray, predicted_peaks: dict[str, np.ndarray], name: str, path: Path
+) -> Path:
+    """Scatter of predicted vs true peak |u| across records, and their distributions."""
+    fig, (scatter, hist) = plt.subplots(1, 2, figsize=(11, 4.2))
+    upper = max([true_peak.max(), *[p.max() for p in predicted_peaks.values()]]) * 1.05
+    scatter.plot([0, upper], [0, upper], color="k", lw=0.8)
+    bins = np.linspace(0, upper, 30)
+    hist.hist(true_peak, bins=bins, density=True, histtype="stepfilled", color="0.8", label="truth")
+    for label, peak in predicted_peaks.items():
+        scatter.scatter(true_peak, peak, s=9, alpha=0.7, label=label)
+        hist.hist(peak, bins=bins, density=True, histtype="step", lw=1.2, label=label)
+    scatter.set_xlabel(f"true peak |u| {name} (m)")
+    scatter.set_ylabel("predicted peak |u| (m)")
+    scatter.set_xlim(0, upper)
+    scatter.set_ylim(0, upper)
+    scatter.legend(fontsize=7)
+    hist.set_xlabel(f"peak |u| {name} (m)")
+    hist.set_ylabel("density")
+    hist.legend(fontsize=7)
+    return _save(fig, path)
+
+
+def hysteresis(
+    drift: np.ndarray, shear: np.ndarray, stories: list[int], names: list[str], path: Path
+) -> Path:
+    """Story shear vs interstory drift loops (``[T, n]`` arrays, m and N)."""
+    fig, axes = plt.subplots(1, len(stories), figsize=(5 * len(stories), 4), squeeze=False)
+    for ax, story in zip(axes[0], stories, strict=True):
+        ax.plot(drift[:, story] * 1e3, shear[:, story] / 1e3, color="tab:blue", lw=0.6)
+        ax.set_xlabel("interstory drift (mm)")
+        ax.set_ylabel("story shear (kN)")
+        ax.set_title(names[story])
+    return _save(fig, path)
+
+
+def spectra(
+    ag: np.ndarray, z: np.ndarray, u: np.ndarray, dt: float, time: np.ndarray, name: str, path: Path
+) -> Path:
+    """Time histories and Welch PSDs of a_g, z, u and the residual u - z (one DOF)."""
+    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5))
+    axes[0, 0].plot(time, ag, color="0.3", lw=0.5)
+    axes[0, 0].set_ylabel("a_g (m/s²)")
+    axes[0, 1].plot(time, u, color="k", lw=0.8, label="u")
+    axes[0, 1].plot(time, z, color="tab:green", lw=0.8, ls="--", label="z")
+    axes[0, 1].set_ylabel(f"{name} (m)")
+    axes[0, 1].legend(fontsize=8)
+    axes[1, 0].plot(time, u - z, color="tab:purple", lw=0.6)
+    axes[1, 0].set_ylabel("residual u - z (m)")
+    for ax in (axes[0, 0], axes[0, 1], axes[1, 0]):
+        ax.set_xlabel("t (s)")
+    psd = axes[1, 1]
+    segment = min(512, len(ag))
+    for signal, label, color in (
+        (ag, "a_g", "0.5"),
+        (z, "z", "tab:green"),
+        (u, "u", "k"),
+        (u - z, "u - z", "tab:purple"),
+    ):
+        f, p = welch(signal, fs=1.0 / dt, nperseg=segment)
+        psd.semilogy(f[1:], p[1:] / np.max(p[1:]), label=label, color=color, lw=0.9)
+    psd.set_xlabel("frequency (Hz)")
+    psd.set_ylabel("PSD / max")
+    psd.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def training_curves(histories: dict[str, dict], path: Path) -> Path:
+    """Training and validation relative L2 per epoch of every model."""
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for i, (label, history) in enumerate(histories.items()):
+        color = f"C{i}"
+        epochs = np.arange(1, len(history["train_loss"]) + 1)
+        ax.plot(epochs, history["train_loss"], color=color, lw=0.9, label=f"{label} train")
+        ax.plot(epochs, history["val_loss"], color=color, lw=0.9, ls="--", label=f"{label} val")
+    ax.set_xlabel("epoch")
+    ax.set_ylabel("relative L2")
+    ax.set_yscale("log")
+    ax.legend(fontsize=7)
+    return _save(fig, path)

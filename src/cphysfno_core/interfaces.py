@@ -1,0 +1,241 @@
+"""The five component interfaces: Structure, GroundMotionSource, PhysicsPreprocessor,
+NeuralOperator and Refiner.
+
+Every component class carries a registry ``name``, its ``kind`` and a pydantic ``Params``
+model (``extra="forbid"``) that validates its constructor arguments; the constructor only
+stores the validated parameters (scikit-learn style) and ``fit`` stores learned state in
+attributes ending in ``_``.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Any, ClassVar, Protocol
+
+import numpy as np
+import torch
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from .errors import CapabilityError, ConfigError
+from .signals import GroundMotions, LinearSystem, Responses
+
+KINDS = ("structure", "ground_motion", "preprocessor", "operator", "refiner")
+
+
+class Params(BaseModel):
+    """Base of every component's parameter model: unknown fields are errors."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def format_validation_error(error: ValidationError, prefix: str = "") -> str:
+    """One line per problem, each naming the field's dotted path."""
+    lines = []
+    for problem in error.errors():
+        path = ".".join(str(p) for p in (prefix, *problem["loc"]) if p != "")
+        message = problem["msg"]
+        if problem["type"] == "extra_forbidden":
+            message = "unknown field (remove it or check its spelling)"
+        lines.append(f"{path}: {message}" if path else message)
+    return "; ".join(lines)
+
+
+def validate_params(params_model: type[Params], values: dict[str, Any], where: str) -> Params:
+    """Validate ``values`` against ``params_model``; a failure names ``where.field``."""
+    try:
+        return params_model(**values)
+    except ValidationError as error:
+        raise ConfigError(format_validation_error(error, where)) from None
+
+
+class Component:
+    """Shared constructor of the non-torch components: validate and store parameters."""
+
+    name: ClassVar[str] = ""
+    kind: ClassVar[str] = ""
+    Params: ClassVar[type[Params]] = Params
+
+    def __init__(self, **params: Any) -> None:
+        self.params = validate_params(self.Params, params, self.name or type(self).__name__)
+
+    def get_params(self) -> dict[str, Any]:
+        """The constructor arguments, as plain JSON-compatible values."""
+        return self.params.model_dump(mode="json")
+
+    def __repr__(self) -> str:
+        args = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items())
+        return f"{type(self).__name__}({args})"
+
+
+class RestoringForce(Protocol):
+    """Nonlinear restoring force of a structure, for projection onto a reduced basis.
+
+    The equations of motion are ``M u'' + C u' + f(u, s) = -M r a_g`` with internal
+    (hysteretic) state ``s`` evolving as ``s' = g(u, u', s)``.
+    """
+
+    n_states: int
+
+    def initial_state(self, n_records: int) -> np.ndarray:
+        """``[n_records, n_states]`` internal state of a structure at rest."""
+
+    def force(self, u: np.ndarray, state: np.ndarray) -> np.ndarray:
+        """``[n, n_dof]`` restoring force in N from displacements ``u [n, n_dof]`` (m)."""
+
+    def state_rate(self, u: np.ndarray, velocity: np.ndarray, state: np.ndarray) -> np.ndarray:
+        """``[n, n_states]`` time derivative of the internal state."""
+
+
+class Structure(Component, ABC):
+    """The high-fidelity nonlinear model that makes the training data.
+
+    Capabilities beyond :meth:`simulate` and :meth:`periods` are optional; a structure
+    that lacks one raises :class:`CapabilityError` from it, and :meth:`capabilities`
+    lists those it has.
+    """
+
+    kind = "structure"
+
+    @property
+    @abstractmethod
+    def output_names(self) -> tuple[str, ...]:
+        """Names of the output DOFs, in the order of the last axis of the responses."""
+
+    @property
+    def n_outputs(self) -> int:
+        return len(self.output_names)
+
+    @abstractmethod
+    def simulate(self, motions: GroundMotions, *, dt: float | None = None) -> Responses:
+        """Nonlinear time-history analysis of every record.
+
+        Args:
+            motions: ``[n, T]`` ground accelerations in m/s^2.
+            dt: integration step in s. ``None`` integrates on the motion's own grid and
+                returns ``[n, T, n_outputs]``; a coarser step (capability
+                ``"coarse_simulation"``) integrates with an unconditionally stable scheme
+                on that grid and returns the response there.
+        """
+
+    @abstractmethod
+    def periods(self, n: int | None = None) -> np.ndarray:
+        """First ``n`` (default all) elastic natural periods in s, longest first."""
+
+    def linear_system(self) -> LinearSystem:
+        """M, C, elastic K, influence vector and output map of the linear representation."""
+        raise self.missing("linear_system")
+
+    def restoring_force(self) -> RestoringForce:
+        """The nonlinear restoring force with its internal state, for modal projection."""
+        raise self.missing("restoring_force")
+
+    def supports_coarse_simulation(self) -> bool:
+        """Whether :meth:`simulate` accepts a coarser ``dt`` than the motion's."""
+        return False
+
+    def capabilities(self) -> frozenset[str]:
+        """The optional capabilities this structure provides."""
+        found = set()
+        for capability in ("linear_system", "restoring_force"):
+            if getattr(type(self), capability) is not getattr(Structure, capability):
+                found.add(capability)
+        if self.supports_coarse_simulation():
+            found.add("coarse_simulation")
+        return frozenset(found)
+
+    def missing(self, capability: str, needed_by: str = "") -> CapabilityError:
+        """The error to raise when ``capability`` is asked of a structure that lacks it."""
+        who = f"{needed_by} needs" if needed_by else "this use needs"
+        have = ", ".join(sorted(self.capabilities())) or "none"
+        return CapabilityError(
+            f"{who} structure '{self.name}' to provide {capability}, which it does not "
+            f"(its capabilities: {have}); choose another component or structure"
+        )
+
+    def require(self, capability: str, needed_by: str) -> None:
+        """Raise :class:`CapabilityError` naming both parties unless ``capability`` is here."""
+        if capability not in self.capabilities():
+            raise self.missing(capability, needed_by)
+
+
+class GroundMotionSource(Component, ABC):
+    """Where ground motions come from: a stochastic model or a set of records."""
+
+    kind = "ground_motion"
+
+    @abstractmethod
+    def sample(self, n: int, rng: np.random.Generator) -> GroundMotions:
+        """``n`` records (a recorded set may return fewer and say so in a warning)."""
+
+
+class PhysicsPreprocessor(Component, ABC):
+    """The simplified physics operator H_p: ground motion -> intermediate response z."""
+
+    kind = "preprocessor"
+
+    @abstractmethod
+    def fit(self, structure: Structure) -> PhysicsPreprocessor:
+        """Build the simplified model from ``structure``; raise CapabilityError if it cannot."""
+
+    @abstractmethod
+    def transform(self, motions: GroundMotions) -> np.ndarray:
+        """``[n, T, n_outputs]`` intermediate displacements z in m on the motion's grid."""
+
+
+class NeuralOperator(torch.nn.Module):
+    """A learned operator mapping ``[batch, T, in_channels]`` to ``[batch, T, out_channels]``.
+
+    Subclasses take ``(in_channels, out_channels, **hyper)`` where ``hyper`` is validated
+    by their ``Params`` model; they must accept any ``T``.
+    """
+
+    name: ClassVar[str] = ""
+    kind: ClassVar[str] = "operator"
+    Params: ClassVar[type[Params]] = Params
+
+    def __init__(self, in_channels: int, out_channels: int, **hyper: Any) -> None:
+        super().__init__()
+        if int(in_channels) < 1 or int(out_channels) < 1:
+            raise ConfigError(
+                f"{self.name}: in_channels and out_channels must be >= 1, "
+                f"got {in_channels} and {out_channels}"
+            )
+        self.in_channels = int(in_channels)
+        self.out_channels = int(out_channels)
+        self.params = validate_params(self.Params, hyper, self.name or type(self).__name__)
+
+    def get_params(self) -> dict[str, Any]:
+        return self.params.model_dump(mode="json")
+
+
+class Refiner(Component, ABC):
+    """Post-processing of the operator output: refined mean and standard deviation."""
+
+    kind = "refiner"
+
+    @abstractmethod
+    def fit(
+        self, z: np.ndarray, u_hat: np.ndarray, u: np.ndarray, rng: np.random.Generator
+    ) -> Refiner:
+        """Learn from ``[n, T, dof]`` physics z, operator output u_hat and truth u (m)."""
+
+    @abstractmethod
+    def predict(self, z: np.ndarray, u_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Refined ``(mean, std)``, each ``[n, T, dof]`` in m."""
+
+    @abstractmethod
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """Fitted arrays, to save with the model."""
+
+    @abstractmethod
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`state_dict` returned."""
+
+
+COMPONENT_BASES: dict[str, type] = {
+    "structure": Structure,
+    "ground_motion": GroundMotionSource,
+    "preprocessor": PhysicsPreprocessor,
+    "operator": NeuralOperator,
+    "refiner": Refiner,
+}

@@ -1,0 +1,51 @@
+"""Error metrics of the paper's §5, per output DOF, over records and time.
+
+All functions take ``[n_records, n_steps, n_dof]`` arrays and return ``[n_dof]`` arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import InputError
+
+
+def _pair(prediction: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    prediction = np.asarray(prediction, dtype=np.float64)
+    truth = np.asarray(truth, dtype=np.float64)
+    if prediction.shape != truth.shape or prediction.ndim != 3:
+        raise InputError(
+            f"prediction {prediction.shape} and truth {truth.shape} must both be "
+            "[n_records, n_steps, n_dof]"
+        )
+    return prediction, truth
+
+
+def rmse(prediction: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """Root-mean-square error per DOF (same unit as the inputs, m for displacements)."""
+    prediction, truth = _pair(prediction, truth)
+    return np.sqrt(np.mean((prediction - truth) ** 2, axis=(0, 1)))
+
+
+def relative_l2(prediction: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """Relative L2 error per DOF: sqrt(sum (pred - truth)^2 / sum truth^2) over records, time."""
+    prediction, truth = _pair(prediction, truth)
+    return np.sqrt(np.sum((prediction - truth) ** 2, axis=(0, 1)) / np.sum(truth**2, axis=(0, 1)))
+
+
+def peak_r2(prediction: np.ndarray, truth: np.ndarray, dof: int = -1) -> float:
+    """Coefficient of determination of the peak absolute response of one DOF across records."""
+    prediction, truth = _pair(prediction, truth)
+    predicted_peak = np.max(np.abs(prediction[:, :, dof]), axis=1)
+    true_peak = np.max(np.abs(truth[:, :, dof]), axis=1)
+    total = np.sum((true_peak - true_peak.mean()) ** 2)
+    if total == 0.0:
+        raise InputError("peak R^2 needs records with different peaks")
+    return float(1.0 - np.sum((predicted_peak - true_peak) ** 2) / total)
+
+
+def coverage(mean: np.ndarray, std: np.ndarray, truth: np.ndarray, k: float = 1.0) -> np.ndarray:
+    """Fraction of (record, time) points per DOF where |truth - mean| <= k * std."""
+    mean, truth = _pair(mean, truth)
+    std = np.broadcast_to(np.asarray(std, dtype=np.float64), truth.shape)
+    return np.mean(np.abs(truth - mean) <= k * std, axis=(0, 1))

@@ -1,0 +1,165 @@
+"""The stages of a study, each reading and writing files in one output folder:
+
+``generate`` -> ``dataset.h5``; ``train`` -> ``models/<label>/``; ``evaluate`` ->
+``metrics.json``, ``figures/`` and ``report.md``.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from . import metrics
+from .composite import CompositeModel, model_label
+from .config import ExperimentConfig
+from .data import Dataset, generate_dataset, load_dataset
+from .errors import DatasetError
+from .registry import get_registry
+
+DATASET = "dataset.h5"
+MODELS = "models"
+
+
+def _say(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def model_labels(config: ExperimentConfig) -> list[str]:
+    """The labels ``train`` produces for ``config``, in training order."""
+    operator = config.operator.name
+    labels = [model_label(operator)] if config.output.baseline else []
+    for pp in config.preprocessor:
+        labels.append(model_label(operator, pp.name))
+        if config.refiner is not None:
+            labels.append(model_label(operator, pp.name, refined=True))
+    return labels
+
+
+def generate(config: ExperimentConfig, out: str | Path) -> Path:
+    """Stage 1: simulate the dataset into ``out/dataset.h5``."""
+    out = Path(out)
+    _say(f"generating {config.data.n_records} records into {out / DATASET}")
+    return generate_dataset(config, out / DATASET)
+
+
+def _set_threads(config: ExperimentConfig) -> None:
+    if config.training.threads is not None:
+        torch.set_num_threads(config.training.threads)
+
+
+def train(config: ExperimentConfig, out: str | Path) -> dict[str, Path]:
+    """Stage 2: train the baseline and one C-PhysFNO per preprocessor; save each model."""
+    out = Path(out)
+    data = load_dataset(out / DATASET)
+    _set_threads(config)
+    registry = get_registry()
+    structure = registry.create("structure", config.structure.name, **config.structure.params)
+    train_gm, val_gm = data.motions("train"), data.motions("val")
+    train_u, val_u = data.targets("train"), data.targets("val")
+    saved: dict[str, Path] = {}
+    variants: list[Any] = [None] if config.output.baseline else []
+    variants += list(config.preprocessor)
+    for pp in variants:
+        model = CompositeModel(
+            config.operator,
+            structure=structure,
+            preprocessor=None
+            if pp is None
+            else registry.create("preprocessor", pp.name, **pp.params),
+            training=config.training,
+        )
+        _say(
+            f"training {model.label} ({config.training.epochs} epochs, "
+            f"{data.sizes['train']} records)"
+        )
+        z_train = z_val = None
+        if pp is not None:
+            z_train, z_val = data.physics(pp.name, "train"), data.physics(pp.name, "val")
+        model.fit(train_gm, train_u, validation=(val_gm, val_u), z=z_train, validation_z=z_val)
+        saved[model.label] = _replace_dir(model, out / MODELS / model.label)
+        if pp is not None and config.refiner is not None:
+            refined = model.refine(
+                (config.refiner.name, config.refiner.params), train_gm, train_u, z=z_train
+            )
+            saved[refined.label] = _replace_dir(refined, out / MODELS / refined.label)
+    return saved
+
+
+def _replace_dir(model: CompositeModel, directory: Path) -> Path:
+    if directory.exists():
+        shutil.rmtree(directory)
+    return model.save(directory)
+
+
+@dataclass
+class Evaluation:
+    """Test-split predictions of every model and its metrics."""
+
+    data: Dataset
+    predictions: dict[str, Any]
+    metrics: dict[str, dict[str, Any]]
+
+
+def _metric_row(prediction: np.ndarray, truth: np.ndarray, std: np.ndarray | None) -> dict:
+    row = {
+        "rmse": metrics.rmse(prediction, truth).tolist(),
+        "rel_l2": metrics.relative_l2(prediction, truth).tolist(),
+        "peak_r2": metrics.peak_r2(prediction, truth),
+    }
+    if std is not None:
+        row["coverage_1sigma"] = metrics.coverage(prediction, std, truth).tolist()
+    return row
+
+
+def evaluate(config: ExperimentConfig, out: str | Path) -> Evaluation:
+    """Stage 3: predict the test split with every trained model; write ``metrics.json``."""
+    out = Path(out)
+    data = load_dataset(out / DATASET)
+    _set_threads(config)
+    test_gm, test_u = data.motions("test"), data.targets("test")
+    results: dict[str, dict[str, Any]] = {}
+    predictions: dict[str, Any] = {}
+    for pp in config.preprocessor:
+        z = data.physics(pp.name, "test")
+        results[f"physics-{pp.name}"] = _metric_row(z, test_u, None)
+    for label in model_labels(config):
+        directory = out / MODELS / label
+        if not (directory / "model.json").exists():
+            raise DatasetError(f"no trained model '{label}' in {out / MODELS}: run train first")
+        model = CompositeModel.load(directory)
+        z = None if model.preprocessor is None else data.physics(model.preprocessor.name, "test")
+        stages = model.predict_stages(test_gm, z=z)
+        predictions[label] = stages
+        refined = model.refiner is not None
+        results[label] = _metric_row(stages.mean, test_u, stages.std if refined else None)
+        results[label]["best_epoch"] = model.history_.best_epoch
+        results[label]["train_seconds"] = model.history_.seconds
+    document = {
+        "models": results,
+        "output_names": list(data.output_names),
+        "sizes": data.sizes,
+        "epochs": config.training.epochs,
+    }
+    (out / "metrics.json").write_text(json.dumps(document, indent=2))
+    return Evaluation(data, predictions, results)
+
+
+def run(config: ExperimentConfig, out: str | Path) -> Evaluation:
+    """All stages: generate, train, evaluate, report."""
+    from .report import write_report
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
+    generate(config, out)
+    train(config, out)
+    evaluation = evaluate(config, out)
+    write_report(config, evaluation, out)
+    return evaluation

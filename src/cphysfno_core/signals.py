@@ -1,0 +1,184 @@
+"""Time histories that travel with their time step: ground motions and structural responses."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError
+
+
+def check_time_step(dt: float, what: str = "dt") -> float:
+    """Return ``dt`` as a float, or raise :class:`InputError` unless it is finite and > 0 s."""
+    try:
+        value = float(dt)
+    except (TypeError, ValueError):
+        raise InputError(f"{what} must be a number of seconds, got {dt!r}") from None
+    if not np.isfinite(value) or value <= 0.0:
+        raise InputError(f"{what} must be a finite time step > 0 s, got {dt!r}")
+    return value
+
+
+def check_finite(array: np.ndarray, what: str) -> None:
+    """Raise :class:`InputError` naming the first record that holds NaN or Inf."""
+    bad = ~np.isfinite(array)
+    if bad.any():
+        record = int(np.argwhere(bad)[0][0])
+        raise InputError(f"{what} holds NaN or Inf (first in record {record}): remove or fix it")
+
+
+@dataclass(frozen=True)
+class GroundMotions:
+    """A batch of ground acceleration records on one uniform time grid.
+
+    Attributes:
+        acceleration: ``[n_records, n_steps]`` ground acceleration in m/s^2 (float64).
+            A 1-D array is taken as a single record.
+        dt: time step in s.
+        metadata: one mapping per record (event, station, scale factor, ...), or empty.
+    """
+
+    acceleration: np.ndarray
+    dt: float
+    metadata: Sequence[Mapping[str, Any]] = field(default_factory=tuple)
+
+    def __post_init__(self) -> None:
+        try:
+            ag = np.asarray(self.acceleration, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(
+                "acceleration must be a numeric array [n_records, n_steps] in m/s^2"
+            ) from None
+        if ag.ndim == 1:
+            ag = ag[None, :]
+        if ag.ndim != 2:
+            raise InputError(
+                f"acceleration must have shape [n_records, n_steps], got shape {ag.shape}"
+            )
+        if ag.shape[1] < 2:
+            raise InputError(f"acceleration needs at least 2 time steps, got {ag.shape[1]}")
+        check_finite(ag, "acceleration")
+        object.__setattr__(self, "acceleration", ag)
+        object.__setattr__(self, "dt", check_time_step(self.dt))
+        metadata = tuple(dict(m) for m in self.metadata)
+        if metadata and len(metadata) != ag.shape[0]:
+            raise InputError(
+                f"metadata has {len(metadata)} entries for {ag.shape[0]} records: "
+                "give one per record"
+            )
+        object.__setattr__(self, "metadata", metadata)
+
+    @property
+    def n_records(self) -> int:
+        return self.acceleration.shape[0]
+
+    @property
+    def n_steps(self) -> int:
+        return self.acceleration.shape[1]
+
+    @property
+    def time(self) -> np.ndarray:
+        """``[n_steps]`` sample times in s, starting at 0."""
+        return np.arange(self.n_steps) * self.dt
+
+    @property
+    def duration(self) -> float:
+        """Length of the record in s (time of the last sample)."""
+        return (self.n_steps - 1) * self.dt
+
+    def __len__(self) -> int:
+        return self.n_records
+
+    def __getitem__(self, index: int | slice | np.ndarray) -> GroundMotions:
+        """Select records (an int keeps the batch dimension)."""
+        rows = np.arange(self.n_records)[index]
+        rows = np.atleast_1d(rows)
+        metadata = tuple(self.metadata[i] for i in rows) if self.metadata else ()
+        return GroundMotions(self.acceleration[rows], self.dt, metadata)
+
+    def resample(self, dt: float) -> GroundMotions:
+        """The same motions sampled every ``dt`` s, linear between the original samples.
+
+        The new grid starts at 0 and covers the record; its last point may lie past the
+        original end, where the last sample is held.
+        """
+        dt = check_time_step(dt)
+        n_new = int(np.ceil(self.duration / dt - 1e-9)) + 1
+        t_new = np.arange(n_new) * dt
+        t_old = self.time
+        ag = np.stack([np.interp(t_new, t_old, row) for row in self.acceleration])
+        return GroundMotions(ag, dt, self.metadata)
+
+
+@dataclass(frozen=True)
+class Responses:
+    """Structural response histories on one uniform time grid.
+
+    Attributes:
+        displacement: ``[n_records, n_steps, n_outputs]`` output displacements in m,
+            relative to the ground.
+        dt: time step in s.
+        extras: optional further channels, each ``[n_records, n_steps, k]``
+            (for example ``"hysteretic_force"`` in N and ``"drift"`` in m).
+    """
+
+    displacement: np.ndarray
+    dt: float
+    extras: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        u = np.asarray(self.displacement, dtype=np.float64)
+        if u.ndim != 3:
+            raise InputError(
+                f"displacement must have shape [n_records, n_steps, n_outputs], got {u.shape}"
+            )
+        object.__setattr__(self, "displacement", u)
+        object.__setattr__(self, "dt", check_time_step(self.dt))
+        object.__setattr__(self, "extras", dict(self.extras))
+
+    @property
+    def time(self) -> np.ndarray:
+        """``[n_steps]`` sample times in s."""
+        return np.arange(self.displacement.shape[1]) * self.dt
+
+
+@dataclass(frozen=True)
+class LinearSystem:
+    """A linear structural model ``M u'' + C u' + K u = -M r a_g``, outputs ``y = L u``.
+
+    Attributes:
+        mass: ``[n_dof, n_dof]`` in kg.
+        damping: ``[n_dof, n_dof]`` in N s/m.
+        stiffness: ``[n_dof, n_dof]`` in N/m.
+        influence: ``[n_dof]`` ground-motion influence vector r (ones for a shear building).
+        output_map: ``[n_outputs, n_dof]`` map L from DOF displacements to outputs.
+    """
+
+    mass: np.ndarray
+    damping: np.ndarray
+    stiffness: np.ndarray
+    influence: np.ndarray
+    output_map: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = np.asarray(self.mass).shape[0]
+        for name in ("mass", "damping", "stiffness"):
+            value = np.asarray(getattr(self, name), dtype=np.float64)
+            if value.shape != (n, n):
+                raise InputError(f"{name} must be [{n}, {n}], got {value.shape}")
+            object.__setattr__(self, name, value)
+        influence = np.asarray(self.influence, dtype=np.float64).reshape(-1)
+        if influence.shape != (n,):
+            raise InputError(f"influence must have {n} entries, got {influence.shape}")
+        object.__setattr__(self, "influence", influence)
+        output_map = np.atleast_2d(np.asarray(self.output_map, dtype=np.float64))
+        if output_map.shape[1] != n:
+            raise InputError(f"output_map must be [n_outputs, {n}], got {output_map.shape}")
+        object.__setattr__(self, "output_map", output_map)
+
+    @property
+    def n_dof(self) -> int:
+        return self.mass.shape[0]

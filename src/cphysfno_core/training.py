@@ -1,0 +1,201 @@
+"""Training of a neural operator: normalisers, the relative-L2 loss of §3.3, the loop.
+
+Arrays are ``[n_records, n_steps, channels]``; the learner works in float32.
+"""
+
+from __future__ import annotations
+
+import copy
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import torch
+
+from .config import TrainingConfig
+from .errors import InputError
+
+
+@dataclass
+class Normalizer:
+    """Per-channel affine map ``(x - mean) / std`` fitted on the training split only.
+
+    Attributes:
+        mean: ``[channels]``.
+        std: ``[channels]`` (a constant channel gets std 1).
+    """
+
+    mean: np.ndarray
+    std: np.ndarray
+
+    @classmethod
+    def fit(cls, x: np.ndarray) -> Normalizer:
+        """Fit to ``x [n, T, channels]`` over records and time."""
+        mean = x.mean(axis=(0, 1))
+        std = x.std(axis=(0, 1))
+        std = np.where(std > 0, std, 1.0)
+        return cls(mean.astype(np.float64), std.astype(np.float64))
+
+    def encode(self, x: np.ndarray) -> np.ndarray:
+        return ((x - self.mean) / self.std).astype(np.float32)
+
+    def decode_torch(self, y: torch.Tensor) -> torch.Tensor:
+        mean = torch.as_tensor(self.mean, dtype=y.dtype, device=y.device)
+        std = torch.as_tensor(self.std, dtype=y.dtype, device=y.device)
+        return y * std + mean
+
+
+def relative_l2_loss(prediction: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+    """Paper Eq. (Loss): sum over records and DOFs of ||pred - u||_2 over sum of ||u||_2.
+
+    Both tensors are ``[batch, T, dof]``; the norms run over time.
+    """
+    error = torch.linalg.vector_norm(prediction - target, dim=1).sum()
+    return error / torch.linalg.vector_norm(target, dim=1).sum().clamp_min(1e-30)
+
+
+@dataclass
+class EpochReport:
+    """What one epoch did, handed to the progress callback."""
+
+    epoch: int
+    epochs: int
+    train_loss: float
+    val_loss: float
+    learning_rate: float
+    seconds: float
+    best: bool
+
+
+@dataclass
+class TrainingHistory:
+    """Loss per epoch and the epoch whose weights were kept (lowest validation loss)."""
+
+    train_loss: list[float] = field(default_factory=list)
+    val_loss: list[float] = field(default_factory=list)
+    best_epoch: int = 0
+    seconds: float = 0.0
+
+    def to_dict(self) -> dict:
+        return {
+            "train_loss": self.train_loss,
+            "val_loss": self.val_loss,
+            "best_epoch": self.best_epoch,
+            "seconds": self.seconds,
+        }
+
+
+def print_progress(report: EpochReport) -> None:
+    """Default progress: one line per epoch on stderr."""
+    mark = " *" if report.best else ""
+    print(
+        f"  epoch {report.epoch:>4}/{report.epochs}  train {report.train_loss:.4f}  "
+        f"val {report.val_loss:.4f}  lr {report.learning_rate:.2e}  "
+        f"{report.seconds:.1f}s{mark}",
+        file=sys.stderr,
+        flush=True,
+    )
+
+
+def _evaluate(
+    operator: torch.nn.Module, x: torch.Tensor, y: torch.Tensor, decode, batch_size: int
+) -> float:
+    """Relative L2 over a whole split (the ratio of sums, not a mean of batch ratios)."""
+    error = 0.0
+    norm = 0.0
+    with torch.no_grad():
+        for start in range(0, x.shape[0], batch_size):
+            prediction = decode(operator(x[start : start + batch_size]))
+            target = y[start : start + batch_size]
+            error += torch.linalg.vector_norm(prediction - target, dim=1).sum().item()
+            norm += torch.linalg.vector_norm(target, dim=1).sum().item()
+    return error / max(norm, 1e-30)
+
+
+def train_operator(
+    operator: torch.nn.Module,
+    x_train: np.ndarray,
+    y_train: np.ndarray,
+    x_val: np.ndarray,
+    y_val: np.ndarray,
+    output_normalizer: Normalizer,
+    settings: TrainingConfig,
+    progress: Callable[[EpochReport], None] | None = print_progress,
+) -> TrainingHistory:
+    """Train ``operator`` in place and keep the weights of the best validation epoch.
+
+    Args:
+        operator: maps normalised inputs ``[b, T, in]`` to normalised outputs ``[b, T, out]``.
+        x_train, x_val: normalised inputs (float32).
+        y_train, y_val: targets in physical units (m); the loss is computed on decoded
+            outputs so it is the paper's relative L2 of displacements.
+        output_normalizer: decodes the operator output to physical units.
+        settings: epochs, batch size, Adam learning rate, step decay, seed.
+        progress: called after every epoch (None for silence).
+    """
+    if x_train.shape[0] != y_train.shape[0] or x_val.shape[0] != y_val.shape[0]:
+        raise InputError("inputs and targets must hold the same number of records")
+    torch.manual_seed(settings.seed)
+    generator = torch.Generator().manual_seed(settings.seed)
+    xt = torch.as_tensor(x_train, dtype=torch.float32)
+    yt = torch.as_tensor(y_train, dtype=torch.float32)
+    xv = torch.as_tensor(x_val, dtype=torch.float32)
+    yv = torch.as_tensor(y_val, dtype=torch.float32)
+    decode = output_normalizer.decode_torch
+
+    optimiser = torch.optim.Adam(
+        operator.parameters(), lr=settings.learning_rate, weight_decay=settings.weight_decay
+    )
+    schedule = torch.optim.lr_scheduler.StepLR(
+        optimiser, step_size=settings.decay_step, gamma=settings.decay_factor
+    )
+    history = TrainingHistory()
+    best_state = copy.deepcopy(operator.state_dict())
+    best_val = float("inf")
+    started = time.perf_counter()
+    for epoch in range(1, settings.epochs + 1):
+        tic = time.perf_counter()
+        operator.train()
+        order = torch.randperm(xt.shape[0], generator=generator)
+        error_sum = 0.0
+        norm_sum = 0.0
+        for start in range(0, xt.shape[0], settings.batch_size):
+            rows = order[start : start + settings.batch_size]
+            prediction = decode(operator(xt[rows]))
+            loss = relative_l2_loss(prediction, yt[rows])
+            optimiser.zero_grad(set_to_none=True)
+            loss.backward()
+            optimiser.step()
+            with torch.no_grad():
+                error_sum += torch.linalg.vector_norm(prediction - yt[rows], dim=1).sum().item()
+                norm_sum += torch.linalg.vector_norm(yt[rows], dim=1).sum().item()
+        learning_rate = optimiser.param_groups[0]["lr"]
+        schedule.step()
+        operator.eval()
+        val_loss = _evaluate(operator, xv, yv, decode, settings.batch_size)
+        train_loss = error_sum / max(norm_sum, 1e-30)
+        history.train_loss.append(train_loss)
+        history.val_loss.append(val_loss)
+        improved = val_loss < best_val
+        if improved:
+            best_val = val_loss
+            history.best_epoch = epoch
+            best_state = copy.deepcopy(operator.state_dict())
+        if progress is not None:
+            progress(
+                EpochReport(
+                    epoch,
+                    settings.epochs,
+                    train_loss,
+                    val_loss,
+                    learning_rate,
+                    time.perf_counter() - tic,
+                    improved,
+                )
+            )
+    operator.load_state_dict(best_state)
+    operator.eval()
+    history.seconds = time.perf_counter() - started
+    return history

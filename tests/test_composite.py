@@ -1,0 +1,105 @@
+import numpy as np
+import pytest
+
+import cphysfno_core as cp
+
+
+@pytest.fixture
+def toy_data(toy_registry):
+    source = cp.create("ground_motion", "toy-source", n_steps=120, dt=0.02, scale=0.5)
+    structure = cp.create("structure", "toy-structure", cubic=50.0)
+    gm = source.sample(24, np.random.default_rng(1))
+    u = structure.simulate(gm).displacement
+    return structure, gm, u
+
+
+def test_compose_mixes_names_pairs_and_instances(toy_data):
+    structure, gm, u = toy_data
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator=("toy-operator", {"width": 6}),
+        refiner="toy-refiner",
+    )
+    assert model.label == "refined-c-physfno-toy-linear" or model.label.startswith("refined-")
+    assert model.preprocessor.structure_ is not None  # fitted at compose time
+
+
+def test_missing_capability_fails_at_compose_naming_both(toy_data):
+    structure, _, _ = toy_data
+    with pytest.raises(
+        cp.CapabilityError,
+        match="preprocessor 'needs-linear-system' needs structure "
+        "'toy-structure' to provide linear_system",
+    ):
+        cp.compose(structure=structure, preprocessor="needs-linear-system", operator="toy-operator")
+
+
+def test_bad_operator_parameters_fail_at_compose(toy_data):
+    structure, _, _ = toy_data
+    with pytest.raises(cp.ConfigError, match="operator.width"):
+        cp.compose(structure=structure, operator=("toy-operator", {"width": -1}))
+
+
+def test_fit_learns_and_save_load_round_trips(toy_data, tmp_path):
+    structure, gm, u = toy_data
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator=("toy-operator", {"width": 8}),
+        refiner="toy-refiner",
+        training={"batch_size": 4, "learning_rate": 1e-2, "seed": 3},
+    )
+    with pytest.raises(cp.NotFittedError):
+        model.predict(gm[:2])
+    model.fit(gm[:16], u[:16], validation=(gm[16:20], u[16:20]), epochs=30, progress=None)
+    history = model.history_
+    assert len(history.train_loss) == 30
+    assert history.train_loss[-1] < 0.6 * history.train_loss[0]
+    assert history.val_loss[history.best_epoch - 1] == min(history.val_loss)
+
+    mean, std = model.predict(gm[20:])
+    assert mean.shape == std.shape == (4, 120, 2)
+    model.save(tmp_path / "m")
+    loaded = cp.CompositeModel.load(tmp_path / "m")
+    mean2, std2 = loaded.predict(gm[20:])
+    np.testing.assert_allclose(mean2, mean, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(std2, std)
+    assert loaded.label == model.label
+
+
+def test_fit_is_repeatable_under_a_seed(toy_data):
+    structure, gm, u = toy_data
+
+    def train():
+        m = cp.compose(
+            structure=structure, operator="toy-operator", training={"batch_size": 4, "seed": 7}
+        )
+        m.fit(gm[:8], u[:8], validation=(gm[8:12], u[8:12]), epochs=3, progress=None)
+        return m.predict(gm[12:14])[0]
+
+    np.testing.assert_array_equal(train(), train())
+
+
+def test_unrefined_std_is_the_validation_rmse(toy_data):
+    structure, gm, u = toy_data
+    model = cp.compose(structure=structure, preprocessor="toy-linear", operator="toy-operator")
+    model.fit(gm[:8], u[:8], validation=(gm[8:16], u[8:16]), epochs=2, batch_size=4, progress=None)
+    val_mean, _ = model.predict(gm[8:16])
+    _, std = model.predict(gm[:1])
+    expected = np.sqrt(np.mean((val_mean - u[8:16]) ** 2, axis=(0, 1)))
+    np.testing.assert_allclose(std[0, 0], expected, rtol=1e-6)
+
+
+def test_targets_of_the_wrong_shape_are_refused(toy_data):
+    structure, gm, u = toy_data
+    model = cp.compose(structure=structure, operator="toy-operator")
+    with pytest.raises(cp.InputError, match="must be \\[n_records, n_steps, dof\\]"):
+        model.fit(gm[:4], u[:3], validation=(gm[4:6], u[4:6]), progress=None)
+    with pytest.raises(cp.InputError, match="has 1 outputs but structure 'toy-structure' has 2"):
+        model.fit(gm[:4], u[:4, :, :1], validation=(gm[4:6], u[4:6, :, :1]), progress=None)
+
+
+def test_loading_a_folder_without_a_model_is_a_clear_error(tmp_path, toy_registry):
+    with pytest.raises(cp.DatasetError, match="no readable model.json"):
+        cp.CompositeModel.load(tmp_path)

@@ -1,0 +1,63 @@
+import pytest
+
+import cphysfno_core as cp
+
+BASE = {
+    "structure": {"name": "toy-structure", "cubic": 5.0},
+    "ground_motion": {"name": "toy-source"},
+    "preprocessor": {"name": "toy-linear"},
+    "operator": {"name": "toy-operator", "width": 4},
+    "data": {"n_train": 4, "n_val": 2, "n_test": 2},
+}
+
+
+def _with(section, **fields):
+    data = {k: (dict(v) if isinstance(v, dict) else v) for k, v in BASE.items()}
+    data[section] = {**data.get(section, {}), **fields}
+    return data
+
+
+def test_a_valid_config_parses_with_component_fields(toy_registry):
+    config = cp.parse_config(BASE)
+    assert config.structure.params == {"cubic": 5.0}
+    assert [p.name for p in config.preprocessor] == ["toy-linear"]
+    assert config.training.learning_rate == 1e-3 and config.training.decay_factor == 0.5
+
+
+@pytest.mark.parametrize(
+    "data, message",
+    [
+        (_with("operator", width=0), r"^operator\.width: Input should be greater than 0"),
+        (_with("operator", widht=3), r"^operator\.widht: unknown field"),
+        (
+            _with("structure", name="tower"),
+            r"^structure\.name: unknown structure 'tower'.*"
+            r"known structure names: toy-structure",
+        ),
+        (_with("data", n_train=0), r"^data\.n_train: Input should be greater than 0"),
+        (_with("training", epochs="many"), r"^training\.epochs: Input should be a valid"),
+        (_with("training", lr=1.0), r"^training\.lr: unknown field"),
+        ({k: v for k, v in BASE.items() if k != "operator"}, r"^operator: Field required"),
+        (_with("refiner", name="nope"), r"^refiner\.name: unknown refiner 'nope'"),
+    ],
+)
+def test_a_wrong_field_names_its_path(toy_registry, data, message):
+    with pytest.raises(cp.ConfigError, match=message):
+        cp.parse_config(data)
+
+
+def test_preprocessors_may_be_a_list_and_must_be_distinct(toy_registry):
+    data = dict(BASE, preprocessor=[{"name": "toy-linear"}, {"name": "needs-linear-system"}])
+    assert len(cp.parse_config(data).preprocessor) == 2
+    twice = dict(BASE, preprocessor=[{"name": "toy-linear"}, {"name": "toy-linear"}])
+    with pytest.raises(cp.ConfigError, match="each preprocessor may appear once"):
+        cp.parse_config(twice)
+
+
+def test_load_config_reports_the_file_and_bad_toml(toy_registry, tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text("[structure\nname = 1")
+    with pytest.raises(cp.ConfigError, match="bad.toml is not valid TOML"):
+        cp.load_config(path)
+    with pytest.raises(cp.ConfigError, match="cannot read config"):
+        cp.load_config(tmp_path / "missing.toml")

@@ -1,0 +1,59 @@
+import numpy as np
+import pytest
+import torch
+
+import cphysfno_core as cp
+from cphysfno_core import metrics
+from cphysfno_core.training import relative_l2_loss
+
+
+def _pair():
+    truth = np.zeros((2, 2, 2))
+    truth[:, :, 0] = [[1.0, 2.0], [3.0, 4.0]]
+    truth[:, :, 1] = [[1.0, -1.0], [1.0, -1.0]]
+    prediction = truth.copy()
+    prediction[:, :, 0] += [[1.0, 0.0], [0.0, -1.0]]
+    prediction[:, :, 1] = 0.0
+    return prediction, truth
+
+
+def test_rmse_by_hand():
+    prediction, truth = _pair()
+    # DOF 0: errors 1, 0, 0, -1 -> sqrt(2/4); DOF 1: errors all 1 -> 1
+    np.testing.assert_allclose(metrics.rmse(prediction, truth), [np.sqrt(0.5), 1.0])
+
+
+def test_relative_l2_by_hand():
+    prediction, truth = _pair()
+    # DOF 0: sqrt(2 / (1 + 4 + 9 + 16)); DOF 1: sqrt(4 / 4)
+    np.testing.assert_allclose(metrics.relative_l2(prediction, truth), [np.sqrt(2 / 30), 1.0])
+
+
+def test_peak_r2_by_hand():
+    truth = np.zeros((3, 2, 1))
+    truth[:, 0, 0] = [1.0, 2.0, 3.0]
+    prediction = np.zeros((3, 2, 1))
+    prediction[:, 1, 0] = [-1.0, 2.5, 2.5]  # peaks of |u|: 1, 2.5, 2.5
+    # SS_res = 0 + 0.25 + 0.25; SS_tot = 1 + 0 + 1 -> R^2 = 1 - 0.5 / 2
+    assert metrics.peak_r2(prediction, truth) == pytest.approx(0.75)
+
+
+def test_coverage_by_hand():
+    truth = np.array([[[0.0], [1.0], [2.0], [3.0]]])
+    mean = np.zeros_like(truth)
+    np.testing.assert_allclose(metrics.coverage(mean, np.full_like(truth, 1.5), truth), [0.5])
+
+
+def test_metrics_refuse_mismatched_shapes():
+    with pytest.raises(cp.InputError, match="must both be"):
+        metrics.rmse(np.zeros((2, 3, 1)), np.zeros((2, 3, 2)))
+
+
+def test_relative_l2_loss_is_the_papers_ratio_of_sums():
+    prediction, truth = _pair()
+    error_norms = np.linalg.norm(prediction - truth, axis=1).sum()
+    truth_norms = np.linalg.norm(truth, axis=1).sum()
+    loss = relative_l2_loss(torch.tensor(prediction), torch.tensor(truth))
+    assert loss.item() == pytest.approx(error_norms / truth_norms)
+    # by hand: error norms DOF0 rec0 1, rec1 1, DOF1 sqrt2 twice; truth sqrt5, 5, sqrt2, sqrt2
+    assert loss.item() == pytest.approx((2 + 2 * np.sqrt(2)) / (np.sqrt(5) + 5 + 2 * np.sqrt(2)))

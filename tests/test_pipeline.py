@@ -1,0 +1,155 @@
+import json
+import os
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import cphysfno_core as cp
+from cphysfno_core.cli import main
+
+CONFIG = """
+[structure]
+name = "toy-structure"
+cubic = 40.0
+
+[ground_motion]
+name = "toy-source"
+n_steps = 100
+scale = 0.5
+
+[[preprocessor]]
+name = "toy-linear"
+
+[operator]
+name = "toy-operator"
+width = 6
+
+[refiner]
+name = "toy-refiner"
+
+[data]
+n_train = 12
+n_val = 4
+n_test = 6
+chunk_size = 5
+executor = "{executor}"
+workers = 2
+
+[training]
+epochs = 3
+batch_size = 4
+"""
+
+
+def _config(tmp_path: Path, executor: str = "serial") -> Path:
+    path = tmp_path / f"toy-{executor}.toml"
+    path.write_text(CONFIG.format(executor=executor))
+    return path
+
+
+def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["run", str(_config(tmp_path)), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "relative L2 error per output" in printed and "c-phystoy-operator-toy-linear" in printed
+    document = json.loads((out / "metrics.json").read_text())
+    labels = set(document["models"])
+    assert labels == {
+        "toy-operator",
+        "c-phystoy-operator-toy-linear",
+        "refined-c-phystoy-operator-toy-linear",
+        "physics-toy-linear",
+    }
+    for row in document["models"].values():
+        assert len(row["rmse"]) == len(row["rel_l2"]) == 2
+    assert "coverage_1sigma" in document["models"]["refined-c-phystoy-operator-toy-linear"]
+    report = (out / "report.md").read_text()
+    assert "| physics-toy-linear |" in report
+    for figure in (
+        "trajectories",
+        "top_story_models",
+        "refined_band",
+        "peaks",
+        "spectra",
+        "training",
+    ):
+        assert (out / "figures" / f"{figure}.png").stat().st_size > 1000
+        assert f"figures/{figure}.png" in report
+
+
+def test_physics_row_is_the_preprocessor_error(toy_registry, tmp_path):
+    out = tmp_path / "run"
+    config = cp.load_config(_config(tmp_path))
+    from cphysfno_core import pipeline
+
+    pipeline.generate(config, out)
+    data = cp.load_dataset(out / "dataset.h5")
+    z = data.physics("toy-linear", "test")
+    u = data.targets("test")
+    expected = np.sqrt(((z - u) ** 2).sum(axis=(0, 1)) / (u**2).sum(axis=(0, 1)))
+    pipeline.train(config, out)
+    metrics = pipeline.evaluate(config, out).metrics
+    np.testing.assert_allclose(metrics["physics-toy-linear"]["rel_l2"], expected)
+
+
+def test_stages_run_separately_and_evaluate_needs_training(toy_registry, tmp_path, capsys):
+    out = tmp_path / "staged"
+    config = str(_config(tmp_path))
+    assert main(["generate", config, "--out", str(out)]) == 0
+    assert main(["evaluate", config, "--out", str(out)]) == 2
+    assert "no trained model" in capsys.readouterr().err
+    assert main(["train", config, "--out", str(out)]) == 0
+    assert main(["evaluate", config, "--out", str(out)]) == 0
+    assert (out / "report.md").exists()
+
+
+def test_generation_resumes_and_an_incomplete_file_says_so(toy_registry, tmp_path):
+    config = cp.load_config(_config(tmp_path))
+    path = tmp_path / "data.h5"
+    cp.generate_dataset(config, path, progress=False)
+    reference = cp.load_dataset(path)
+    with h5py.File(path, "a") as f:  # as if killed after the first two chunks
+        f.attrs["complete"] = False
+        f["chunk_done"][2:] = False
+        f["u"][10:] = 0.0
+    with pytest.raises(cp.DatasetError, match="incomplete.*run the same"):
+        cp.load_dataset(path)
+    cp.generate_dataset(config, path, progress=False)
+    resumed = cp.load_dataset(path)
+    np.testing.assert_array_equal(resumed.u, reference.u)
+    np.testing.assert_array_equal(resumed.z["toy-linear"], reference.z["toy-linear"])
+
+
+def test_a_dataset_of_another_config_is_not_overwritten(toy_registry, tmp_path):
+    config = cp.load_config(_config(tmp_path))
+    path = tmp_path / "data.h5"
+    cp.generate_dataset(config, path, progress=False)
+    other = config.model_copy(update={"data": config.data.model_copy(update={"seed": 9})})
+    with pytest.raises(cp.DatasetError, match="another configuration"):
+        cp.generate_dataset(other, path, progress=False)
+
+
+def test_process_executor_gives_the_same_records(toy_registry, tmp_path, monkeypatch):
+    monkeypatch.setenv("CPHYSFNO_DISABLE_PLUGIN_AUTOLOAD", "1")
+    monkeypatch.setenv("CPHYSFNO_PLUGINS", "toy_components")
+    here = str(Path(__file__).parent)
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))
+    serial = cp.load_config(_config(tmp_path, "serial"))
+    processes = cp.load_config(_config(tmp_path, "processes"))
+    cp.generate_dataset(serial, tmp_path / "a.h5", progress=False)
+    cp.generate_dataset(processes, tmp_path / "b.h5", progress=False)
+    a, b = cp.load_dataset(tmp_path / "a.h5"), cp.load_dataset(tmp_path / "b.h5")
+    np.testing.assert_array_equal(a.u, b.u)
+    np.testing.assert_array_equal(a.ag, b.ag)
+
+
+def test_a_bad_config_fails_with_one_line_before_any_work(toy_registry, tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    path.write_text(CONFIG.format(executor="serial").replace("width = 6", "width = -6"))
+    out = tmp_path / "never"
+    assert main(["run", str(path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "operator.width: Input should be greater than 0" in err
+    assert not out.exists()

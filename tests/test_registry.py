@@ -1,0 +1,103 @@
+import types
+
+import pytest
+import toy_components
+
+import cphysfno_core as cp
+from cphysfno_core.cli import main
+
+
+def test_create_builds_a_validated_component(toy_registry):
+    structure = cp.create("structure", "toy-structure", cubic=2.0)
+    assert structure.params.cubic == 2.0
+    assert structure.get_params() == {"frequencies_hz": [1.0, 3.0], "cubic": 2.0}
+
+
+def test_unknown_name_lists_the_known_ones(toy_registry):
+    with pytest.raises(cp.RegistryError, match="unknown structure 'nope'.*toy-structure"):
+        cp.create("structure", "nope")
+
+
+def test_unknown_kind_is_an_error(toy_registry):
+    with pytest.raises(cp.RegistryError, match="unknown component kind 'solver'"):
+        cp.create("solver", "x")
+
+
+def test_bad_parameter_names_the_field(toy_registry):
+    with pytest.raises(cp.ConfigError, match=r"toy-structure.cubc: unknown field"):
+        cp.create("structure", "toy-structure", cubc=1.0)
+    with pytest.raises(cp.ConfigError, match=r"toy-operator.width: Input should be greater"):
+        cp.create("operator", "toy-operator", in_channels=2, out_channels=1, width=0)
+
+
+def _plugin(name, **hooks):
+    module = types.ModuleType(name)
+    for hook, value in hooks.items():
+        setattr(module, hook, cp.hookimpl(value))
+    return module
+
+
+def test_a_name_claimed_twice_names_both_providers():
+    twin = _plugin("twin", cphysfno_structures=lambda: [toy_components.ToyStructure])
+    registry = cp.Registry(autoload=False, plugins=(toy_components,))
+    registry.register(twin, distribution="twin-dist 9.9")
+    with pytest.raises(cp.RegistryError, match="provided by both.*twin-dist 9.9"):
+        registry.create("structure", "toy-structure")
+    assert ("structure", "toy-structure") in registry.clashes()
+    assert registry.names("ground_motion") == ["toy-source"]
+
+
+def test_a_broken_plugin_is_reported_and_the_rest_still_work():
+    def explode():
+        raise RuntimeError("boom")
+
+    broken = _plugin("broken", cphysfno_operators=explode)
+    not_a_class = _plugin("odd", cphysfno_refiners=lambda: [object])
+    registry = cp.Registry(autoload=False, plugins=(toy_components, broken, not_a_class))
+    registry.register("no_such_module_anywhere")
+    errors = {b.plugin: b.error for b in registry.broken}
+    assert "RuntimeError: boom" in errors["broken"]
+    assert "not a subclass of Refiner" in errors["odd"]
+    assert "ModuleNotFoundError" in errors["no_such_module_anywhere"]
+    assert registry.create("structure", "toy-structure").name == "toy-structure"
+    with pytest.raises(cp.RegistryError, match="failed to load"):
+        registry.create("operator", "fno")
+
+
+def test_autoload_can_be_disabled_and_plugins_named(monkeypatch):
+    from cphysfno_core.registry import get_registry, set_registry
+
+    monkeypatch.setenv("CPHYSFNO_DISABLE_PLUGIN_AUTOLOAD", "1")
+    monkeypatch.setenv("CPHYSFNO_PLUGINS", "toy_components")
+    set_registry(None)
+    try:
+        registry = get_registry()
+        assert [e.name for e in registry.entries()] == [
+            "toy-structure",
+            "toy-source",
+            "needs-linear-system",
+            "toy-linear",
+            "toy-operator",
+            "toy-refiner",
+        ]
+    finally:
+        set_registry(None)
+
+
+def test_plugins_command_lists_components_parameters_and_broken(toy_registry, capsys):
+    toy_registry.register(
+        _plugin("broken", cphysfno_operators=lambda: 1 / 0), distribution="bad-dist 0.1"
+    )
+    assert main(["plugins"]) == 0
+    out = capsys.readouterr().out
+    assert "structure:" in out and "toy-structure" in out
+    assert "parameters: frequencies_hz=(1.0, 3.0), cubic=0.0" in out
+    assert "broken:" in out and "bad-dist 0.1: ZeroDivisionError" in out
+
+
+def test_real_entry_points_are_found():
+    registry = cp.Registry()
+    kinds = {e.kind for e in registry.entries()}
+    assert kinds, "no plugin found through the cphysfno entry-point group"
+    assert all(e.distribution.startswith("cphysfno-") for e in registry.entries())
+    assert not registry.broken, registry.broken

@@ -1,0 +1,61 @@
+import numpy as np
+import pytest
+
+import cphysfno_core as cp
+
+
+def test_ground_motions_carry_their_time_step():
+    gm = cp.GroundMotions(np.zeros((3, 11)), dt=0.5)
+    assert gm.n_records == 3 and gm.n_steps == 11
+    np.testing.assert_allclose(gm.time, np.arange(11) * 0.5)
+    assert gm.duration == 5.0
+    assert cp.GroundMotions(np.zeros(11), 0.1).acceleration.shape == (1, 11)
+
+
+@pytest.mark.parametrize(
+    "ag, dt, message",
+    [
+        (np.zeros((2, 3, 4)), 0.01, r"shape \[n_records, n_steps\], got shape \(2, 3, 4\)"),
+        (np.array([[0.0, np.nan, 1.0]]), 0.01, "NaN or Inf \\(first in record 0\\)"),
+        (np.array([[0.0, 1.0], [np.inf, 0.0]]), 0.01, "first in record 1"),
+        (np.zeros((2, 5)), 0.0, "dt must be a finite time step > 0 s"),
+        (np.zeros((2, 5)), -0.01, "dt must be a finite time step > 0 s"),
+        (np.zeros((2, 5)), "fast", "dt must be a number of seconds"),
+        (np.zeros((2, 1)), 0.01, "at least 2 time steps"),
+        ([["a", "b"]], 0.01, "numeric array"),
+    ],
+)
+def test_bad_ground_motions_say_what_to_change(ag, dt, message):
+    with pytest.raises(cp.InputError, match=message):
+        cp.GroundMotions(ag, dt)
+
+
+def test_metadata_must_match_the_records():
+    with pytest.raises(cp.InputError, match="metadata has 1 entries for 2 records"):
+        cp.GroundMotions(np.zeros((2, 4)), 0.1, metadata=[{"a": 1}])
+
+
+def test_indexing_keeps_metadata_and_batch():
+    gm = cp.GroundMotions(np.arange(12.0).reshape(3, 4), 0.1, [{"i": i} for i in range(3)])
+    one = gm[1]
+    assert one.acceleration.shape == (1, 4)
+    assert one.metadata == ({"i": 1},)
+    assert [m["i"] for m in gm[np.array([2, 0])].metadata] == [2, 0]
+
+
+def test_resample_is_linear_between_samples_and_holds_the_end():
+    gm = cp.GroundMotions(np.array([[0.0, 1.0, 0.0, 2.0]]), dt=1.0)
+    coarse = gm.resample(2.0)  # grid 0, 2, 4 covers the 3 s record; 4 s holds the end
+    np.testing.assert_allclose(coarse.acceleration, [[0.0, 0.0, 2.0]])
+    fine = gm.resample(0.5)
+    np.testing.assert_allclose(fine.acceleration, [[0, 0.5, 1, 0.5, 0, 1, 2]])
+    longer = gm.resample(2.5)  # grid 0, 2.5, 5
+    np.testing.assert_allclose(longer.acceleration, [[0.0, 1.0, 2.0]])
+
+
+def test_linear_system_checks_shapes():
+    eye = np.eye(2)
+    system = cp.LinearSystem(eye, eye, eye, np.ones(2), eye)
+    assert system.n_dof == 2
+    with pytest.raises(cp.InputError, match=r"stiffness must be \[2, 2\]"):
+        cp.LinearSystem(eye, eye, np.eye(3), np.ones(2), eye)

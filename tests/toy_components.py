@@ -1,0 +1,160 @@
+"""Small components registered by the core's tests, so the core is tested without plugins."""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+from pydantic import Field
+
+import cphysfno_core as cp
+
+
+class ToyStructure(cp.Structure):
+    """Two independent damped oscillators with a cubic spring, integrated by RK4."""
+
+    name = "toy-structure"
+
+    class Params(cp.Params):
+        frequencies_hz: tuple[float, float] = (1.0, 3.0)
+        cubic: float = 0.0
+
+    @property
+    def output_names(self):
+        return ("dof-1", "dof-2")
+
+    def periods(self, n=None):
+        return (1.0 / np.asarray(self.params.frequencies_hz))[:n]
+
+    def simulate(self, motions, *, dt=None):
+        w = 2 * np.pi * np.asarray(self.params.frequencies_hz)
+        ag = motions.acceleration
+        n, steps = ag.shape
+        u = np.zeros((n, 2))
+        v = np.zeros((n, 2))
+        out = np.zeros((n, steps, 2))
+
+        def accel(u, v, a):
+            return -a[:, None] - 2 * 0.05 * w * v - w**2 * (u + self.params.cubic * u**3)
+
+        h = motions.dt
+        for k in range(steps - 1):
+            a0, a1 = ag[:, k], ag[:, k + 1]
+            am = 0.5 * (a0 + a1)
+            k1u, k1v = v, accel(u, v, a0)
+            k2u, k2v = v + 0.5 * h * k1v, accel(u + 0.5 * h * k1u, v + 0.5 * h * k1v, am)
+            k3u, k3v = v + 0.5 * h * k2v, accel(u + 0.5 * h * k2u, v + 0.5 * h * k2v, am)
+            k4u, k4v = v + h * k3v, accel(u + h * k3u, v + h * k3v, a1)
+            u = u + h / 6 * (k1u + 2 * k2u + 2 * k3u + k4u)
+            v = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+            out[:, k + 1] = u
+        return cp.Responses(out, motions.dt)
+
+
+class ToySource(cp.GroundMotionSource):
+    """Band-limited random accelerations."""
+
+    name = "toy-source"
+
+    class Params(cp.Params):
+        n_steps: int = Field(200, gt=1)
+        dt: float = Field(0.02, gt=0)
+        scale: float = 1.0
+
+    def sample(self, n, rng):
+        raw = rng.standard_normal((n, self.params.n_steps))
+        smooth = np.cumsum(raw, axis=1)
+        smooth -= np.linspace(0, 1, self.params.n_steps) * smooth[:, -1:]
+        return cp.GroundMotions(self.params.scale * smooth, self.params.dt)
+
+
+class ToyPreprocessor(cp.PhysicsPreprocessor):
+    """The linear part of the toy structure (cubic term dropped)."""
+
+    name = "toy-linear"
+
+    def fit(self, structure):
+        self.structure_ = ToyStructure(frequencies_hz=structure.params.frequencies_hz)
+        return self
+
+    def transform(self, motions):
+        if not hasattr(self, "structure_"):
+            raise cp.NotFittedError("fit first")
+        return self.structure_.simulate(motions).displacement
+
+
+class NeedsLinearSystem(cp.PhysicsPreprocessor):
+    """A preprocessor that needs a capability the toy structure lacks."""
+
+    name = "needs-linear-system"
+
+    def fit(self, structure):
+        structure.require("linear_system", f"preprocessor '{self.name}'")
+        return self
+
+    def transform(self, motions):
+        raise AssertionError("never reached")
+
+
+class ToyOperator(cp.NeuralOperator):
+    """A pointwise two-layer network (no coupling in time)."""
+
+    name = "toy-operator"
+
+    class Params(cp.Params):
+        width: int = Field(8, gt=0)
+
+    def __init__(self, in_channels, out_channels, **hyper):
+        super().__init__(in_channels, out_channels, **hyper)
+        self.net = torch.nn.Sequential(
+            torch.nn.Linear(in_channels, self.params.width),
+            torch.nn.Tanh(),
+            torch.nn.Linear(self.params.width, out_channels),
+        )
+
+    def forward(self, x):
+        return self.net(x)
+
+
+class ToyRefiner(cp.Refiner):
+    """Mean = operator output + a constant offset per DOF; std = residual std."""
+
+    name = "toy-refiner"
+
+    def fit(self, z, u_hat, u, rng):
+        self.offset_ = np.mean(u - u_hat, axis=(0, 1))
+        self.sigma_ = np.std(u - u_hat - self.offset_, axis=(0, 1))
+        return self
+
+    def predict(self, z, u_hat):
+        return u_hat + self.offset_, np.broadcast_to(self.sigma_, u_hat.shape)
+
+    def state_dict(self):
+        return {"offset": self.offset_, "sigma": self.sigma_}
+
+    def load_state_dict(self, state):
+        self.offset_, self.sigma_ = state["offset"], state["sigma"]
+
+
+@cp.hookimpl
+def cphysfno_structures():
+    return [ToyStructure]
+
+
+@cp.hookimpl
+def cphysfno_ground_motions():
+    return [ToySource]
+
+
+@cp.hookimpl
+def cphysfno_preprocessors():
+    return [ToyPreprocessor, NeedsLinearSystem]
+
+
+@cp.hookimpl
+def cphysfno_operators():
+    return [ToyOperator]
+
+
+@cp.hookimpl
+def cphysfno_refiners():
+    return [ToyRefiner]
