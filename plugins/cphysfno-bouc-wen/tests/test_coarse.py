@@ -1,0 +1,76 @@
+"""The implicit scheme on the motion's grid and on a 30 times coarser one."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+from cphysfno_core import CphysfnoError, GroundMotions, InputError
+
+import cphysfno_bouc_wen.structure
+from cphysfno_bouc_wen import BoucWenShearBuilding
+from cphysfno_bouc_wen.implicit import integrate_gauss
+
+
+@pytest.fixture(scope="module")
+def building() -> BoucWenShearBuilding:
+    return BoucWenShearBuilding()
+
+
+@pytest.fixture(scope="module")
+def motions(white_noise) -> GroundMotions:
+    metadata = [{"source": "test", "index": i} for i in range(12)]
+    return GroundMotions(white_noise(12, seed=31), 0.01, metadata)
+
+
+@pytest.fixture(scope="module")
+def truth(building, motions) -> np.ndarray:
+    return building.simulate(motions).displacement
+
+
+def test_implicit_on_the_motion_grid_reproduces_the_fine_grid(
+    building, motions, truth, rel_l2
+) -> None:
+    coarse = building.simulate(motions[:4], dt=0.01)
+    assert coarse.dt == pytest.approx(0.01)
+    error = rel_l2(coarse.displacement, truth[:4])
+    assert np.all(error <= 1e-3), f"relative L2 per story {error}"
+
+
+def test_thirty_times_coarser_grid_is_stable_and_bounded(building, motions, truth, rel_l2) -> None:
+    coarse = building.simulate(motions, dt=0.3)
+    u = coarse.displacement
+    assert u.shape == (12, 101, 5)
+    assert coarse.dt == pytest.approx(0.3)
+    assert np.all(np.isfinite(u))
+    assert set(coarse.extras) == {"story_drift", "story_shear"}
+    on_coarse_grid = truth[:, ::30]
+    error = rel_l2(u, on_coarse_grid)
+    rms_ratio = np.sqrt((u**2).mean(axis=(0, 1)) / (on_coarse_grid**2).mean(axis=(0, 1)))
+    assert np.all(error < 2.0), f"relative L2 per story at dt' = 0.3 s: {error}"
+    assert np.all((rms_ratio > 0.6) & (rms_ratio < 1.6)), f"RMS ratio per story {rms_ratio}"
+
+
+def test_halved_steps_integrate_the_same_equations(
+    building, motions, truth, rel_l2, monkeypatch
+) -> None:
+    impatient = functools.partial(integrate_gauss, max_iterations=2)
+    monkeypatch.setattr(cphysfno_bouc_wen.structure, "integrate_gauss", impatient)
+    short = GroundMotions(motions.acceleration[:2, :101], 0.01)
+    halved = building.simulate(short, dt=0.01).displacement
+    error = rel_l2(halved, truth[:2, :101])
+    assert np.all(error <= 1e-3), f"relative L2 per story {error}"
+
+
+def test_a_record_that_fails_is_named(building, motions, monkeypatch) -> None:
+    hopeless = functools.partial(integrate_gauss, max_iterations=1, max_halvings=0)
+    monkeypatch.setattr(cphysfno_bouc_wen.structure, "integrate_gauss", hopeless)
+    with pytest.raises(CphysfnoError, match=r"record 0 at t = 0\.0000 s.*'index': 0"):
+        building.simulate(motions[:2], dt=0.3)
+
+
+@pytest.mark.parametrize("dt", [0.005, 0.0, -0.3, float("nan"), "fast"])
+def test_bad_coarse_steps_are_input_errors(building, motions, dt) -> None:
+    with pytest.raises(InputError, match="dt"):
+        building.simulate(motions[:1], dt=dt)

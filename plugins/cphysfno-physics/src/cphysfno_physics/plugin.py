@@ -1,0 +1,15 @@
+"""Entry point of the ``cphysfno-physics`` distribution: registers its preprocessors."""
+
+from __future__ import annotations
+
+import cphysfno_core
+
+from .els import EquivalentLinear
+from .modal import ModalReduction
+from .relaxed import RelaxedSolver
+
+
+@cphysfno_core.hookimpl
+def cphysfno_preprocessors() -> list[type]:
+    """The physics preprocessors ``els``, ``modal`` and ``relaxed``."""
+    return [EquivalentLinear, ModalReduction, RelaxedSolver]

@@ -1,0 +1,59 @@
+"""Modal reduction: all modes reproduce the full model, fewer modes do not."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cphysfno_core import ConfigError, create
+
+
+def test_all_modes_reproduce_the_full_model(toy, toy_motions, toy_truth, relative_l2):
+    z = create("preprocessor", "modal", modes=3).fit(toy).transform(toy_motions)
+    assert z.shape == toy_truth.shape and z.dtype == np.float64
+    assert np.all(relative_l2(z, toy_truth) <= 1e-4)
+
+
+def test_fewer_modes_differ(toy, toy_motions, toy_truth, relative_l2):
+    one, two = (
+        relative_l2(
+            create("preprocessor", "modal", modes=r).fit(toy).transform(toy_motions), toy_truth
+        )
+        for r in (1, 2)
+    )
+    assert np.all(two > 1e-3) and np.all(one > two)
+
+
+def test_more_substeps_converge(toy, toy_motions, toy_truth, relative_l2):
+    coarse = create("preprocessor", "modal", modes=3, substeps=1).fit(toy)
+    fine = create("preprocessor", "modal", modes=3, substeps=6).fit(toy)
+    coarse_error = relative_l2(coarse.transform(toy_motions), toy_truth)
+    fine_error = relative_l2(fine.transform(toy_motions), toy_truth)
+    assert np.all(fine_error < coarse_error / 100)
+
+
+def test_modes_are_the_elastic_modes(toy):
+    modal = create("preprocessor", "modal", modes=3).fit(toy)
+    np.testing.assert_allclose(2 * np.pi / modal.frequencies_, toy.periods(), rtol=1e-10)
+    mass = toy.linear_system().mass
+    np.testing.assert_allclose(modal.shapes_.T @ mass @ modal.shapes_, np.eye(3), atol=1e-12)
+
+
+def test_more_modes_than_dofs_is_a_config_error(toy):
+    with pytest.raises(ConfigError, match=r"modal\.modes.*3 degrees of freedom.*toy-building"):
+        create("preprocessor", "modal", modes=4).fit(toy)
+
+
+def test_all_modes_reproduce_the_building(building, paper_motions, paper_truth, relative_l2):
+    motions = paper_motions[:4]
+    z = create("preprocessor", "modal", modes=5).fit(building).transform(motions)
+    error = relative_l2(z, paper_truth[:4])
+    print(f"modal r=5 relative L2 to the full model per story: {error}")
+    assert np.all(error <= 1e-3)
+
+
+def test_two_modes_on_the_building(building, paper_motions, paper_truth, relative_l2):
+    z = create("preprocessor", "modal").fit(building).transform(paper_motions)
+    error = relative_l2(z, paper_truth)
+    print(f"modal r=2 relative L2 to truth per story: {np.round(error, 3)}")
+    assert np.all(np.isfinite(z)) and np.all(error > 1e-3)
