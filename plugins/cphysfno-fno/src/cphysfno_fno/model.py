@@ -1,0 +1,99 @@
+"""The one-dimensional Fourier neural operator of paper §2.1 (Li et al., 2020)."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+import torch
+from pydantic import Field
+
+from cphysfno_core import InputError, NeuralOperator, Params
+
+from .spectral import SpectralConv1d
+
+ACTIVATIONS = {"gelu": torch.nn.functional.gelu, "relu": torch.nn.functional.relu}
+
+
+class FNOParams(Params):
+    """Hyper-parameters of :class:`FNO1d`.
+
+    Attributes:
+        layers: number of Fourier layers L.
+        modes: lowest Fourier modes K kept by each spectral convolution.
+        width: channels of the latent field v.
+        projection_width: hidden channels of the two-layer projection P.
+        activation: the nonlinearity sigma.
+        padding: zero samples appended at the end of the latent field before the Fourier
+            layers and removed after them, for signals that are not periodic.
+    """
+
+    layers: int = Field(6, gt=0)
+    modes: int = Field(32, gt=0)
+    width: int = Field(64, gt=0)
+    projection_width: int = Field(128, gt=0)
+    activation: Literal["gelu", "relu"] = "gelu"
+    padding: int = Field(0, ge=0)
+
+
+class FourierLayer(torch.nn.Module):
+    """``K(v) + W v``: a spectral convolution plus a pointwise linear map, before sigma."""
+
+    def __init__(self, width: int, modes: int) -> None:
+        super().__init__()
+        self.spectral = SpectralConv1d(width, width, modes)
+        self.pointwise = torch.nn.Linear(width, width)
+
+    def forward(self, v: torch.Tensor) -> torch.Tensor:
+        """``[n, batch, width]`` -> ``[n, batch, width]``."""
+        return self.spectral(v, add=self.pointwise(v))
+
+
+class FNO1d(NeuralOperator):
+    """Lifting Q, ``layers`` Fourier layers ``v <- sigma(K v + W v)`` and projection P.
+
+    As in the reference FNO1d of Li et al., the last Fourier layer has no activation and
+    P is ``Linear(width, projection_width) -> sigma -> Linear(projection_width, out)``.
+    The paper's sizes are lifting 2 -> 64 (baseline, input ``[a_g, t]``) or 6 -> 64
+    (C-PhysFNO, input ``[z, t]``), 6 layers of 32 modes and projection 64 -> 128 -> 5.
+
+    Works at any number of time samples T; where ``modes > T // 2 + 1`` every available
+    mode is used. The state dict holds only the learned parameters.
+
+    Args:
+        in_channels: input channels (e.g. the output DOFs of z plus the time coordinate).
+        out_channels: output channels (the output DOFs).
+        **hyper: fields of :class:`FNOParams`.
+    """
+
+    name = "fno"
+    Params = FNOParams
+
+    def __init__(self, in_channels: int, out_channels: int, **hyper: Any) -> None:
+        super().__init__(in_channels, out_channels, **hyper)
+        p = self.params
+        self.activation = ACTIVATIONS[p.activation]
+        self.padding = p.padding
+        self.lifting = torch.nn.Linear(self.in_channels, p.width)
+        self.layers = torch.nn.ModuleList(FourierLayer(p.width, p.modes) for _ in range(p.layers))
+        self.projection_hidden = torch.nn.Linear(p.width, p.projection_width)
+        self.projection_out = torch.nn.Linear(p.projection_width, self.out_channels)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        """``[batch, T, in_channels]`` -> ``[batch, T, out_channels]`` (same dtype as weights)."""
+        if x.ndim != 3 or x.shape[-1] != self.in_channels:
+            raise InputError(
+                f"{self.name}: expected input [batch, T, {self.in_channels}], "
+                f"got shape {tuple(x.shape)}"
+            )
+        steps = x.shape[1]
+        v = self.lifting(x.transpose(0, 1))
+        if self.padding:
+            v = torch.nn.functional.pad(v, (0, 0, 0, 0, 0, self.padding))
+        for index, layer in enumerate(self.layers):
+            v = layer(v)
+            if index < len(self.layers) - 1:
+                v = self.activation(v)
+        if self.padding:
+            v = v[:steps]
+        v = self.activation(self.projection_hidden(v))
+        return self.projection_out(v).transpose(0, 1).contiguous()

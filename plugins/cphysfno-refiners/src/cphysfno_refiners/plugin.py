@@ -1,0 +1,13 @@
+"""Entry point of the ``cphysfno-refiners`` distribution: registers its refiners."""
+
+from __future__ import annotations
+
+import cphysfno_core
+
+from .linear_regression import LinearRegressionRefiner
+
+
+@cphysfno_core.hookimpl
+def cphysfno_refiners() -> list[type]:
+    """The refiners of this distribution."""
+    return [LinearRegressionRefiner]
