@@ -23,8 +23,12 @@ def test_every_example_config_is_valid():
 def test_paper_config_has_the_papers_sizes():
     config = cp.load_config(EXAMPLES / "bouc-wen.toml")
     assert (config.data.n_train, config.data.n_val, config.data.n_test) == (400, 100, 200)
-    assert config.operator.params == {"layers": 6, "modes": 32, "width": 64,
-                                      "projection_width": 128}
+    assert config.operator.params == {
+        "layers": 6,
+        "modes": 32,
+        "width": 64,
+        "projection_width": 128,
+    }
     assert (config.training.learning_rate, config.training.decay_factor) == (1e-3, 0.5)
     assert [p.name for p in config.preprocessor] == ["els", "modal", "relaxed"]
 
@@ -43,16 +47,22 @@ def test_tiny_example1_runs_end_to_end(tmp_path, capsys):
     assert "story-5" in printed and "physics-els" in printed
     models = json.loads((out / "metrics.json").read_text())["models"]
     assert set(models) == {
-        "fno", "c-physfno-els", "c-physfno-modal", "c-physfno-relaxed",
-        "refined-c-physfno-els", "refined-c-physfno-modal", "refined-c-physfno-relaxed",
-        "physics-els", "physics-modal", "physics-relaxed",
+        "fno",
+        "c-physfno-els",
+        "c-physfno-modal",
+        "c-physfno-relaxed",
+        "refined-c-physfno-els",
+        "refined-c-physfno-modal",
+        "refined-c-physfno-relaxed",
+        "physics-els",
+        "physics-modal",
+        "physics-relaxed",
     }
     assert all(len(row["rel_l2"]) == 5 for row in models.values())
     assert (out / "figures" / "hysteresis.png").exists()
 
     model = cp.CompositeModel.load(out / "models" / "c-physfno-els")
-    gm = cp.create("ground_motion", "white-noise", duration=6.0).sample(
-        3, np.random.default_rng(5))
+    gm = cp.create("ground_motion", "white-noise", duration=6.0).sample(3, np.random.default_rng(5))
     mean, std = model.predict(gm)
     assert mean.shape == std.shape == (3, 601, 5)
     assert np.isfinite(mean).all() and (std > 0).all()

@@ -1,10 +1,11 @@
 """Datasets: generate ``(a_g, u, z)`` with the true nonlinear model, write and read HDF5.
 
 File layout: ``ag [N, T]`` (m/s^2), ``u [N, T, n_out]`` (m), ``z/<preprocessor>
-[N, T, n_out]`` (m), ``extras/<channel> [N, T, k]``, ``chunk_done [n_chunks]``; attributes
-``dt``, ``config`` (JSON), ``config_hash``, ``seed``, ``versions``, ``output_names``,
-``n_train``, ``n_val``, ``n_test`` and ``complete``, which is set only once every chunk is
-written. Generation resumes: chunks already written are not simulated again.
+[N, T, n_out]`` (m), ``extras/<channel> [N, T, k]`` (float32, for figures),
+``chunk_done [n_chunks]``; attributes ``dt``, ``config`` (JSON), ``config_hash``, ``seed``,
+``versions``, ``output_names``, ``n_train``, ``n_val``, ``n_test`` and ``complete``, which
+is set only once every chunk is written. Generation resumes: chunks already written are
+not simulated again.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import json
 import multiprocessing
 import sys
 import time
+from collections import deque
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from importlib import metadata
@@ -216,7 +218,7 @@ def _run_chunks(config, structure, motions, bounds, todo, f, progress) -> None:
         for name, values in extras.items():
             key = f"extras/{name}"
             if key not in f:
-                f.create_dataset(key, shape=(f["u"].shape[0], *values.shape[1:]), dtype="f8")
+                f.create_dataset(key, shape=(f["u"].shape[0], *values.shape[1:]), dtype="f4")
             f[key][start:stop] = values
         f["chunk_done"][i] = True
         f.flush()
@@ -240,10 +242,18 @@ def _run_chunks(config, structure, motions, bounds, todo, f, progress) -> None:
             store(i, simulate_chunk(*args(i)))
         return
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=context) as pool:
-        futures = {i: pool.submit(simulate_chunk, *args(i)) for i in todo}
+    workers = min(workers, len(todo))
+    in_flight = 2 * workers  # bounded, so memory does not grow with the number of records
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        pending = deque()
         for i in todo:
-            store(i, futures[i].result())
+            pending.append((i, pool.submit(simulate_chunk, *args(i))))
+            if len(pending) >= in_flight:
+                done_index, future = pending.popleft()
+                store(done_index, future.result())
+        while pending:
+            done_index, future = pending.popleft()
+            store(done_index, future.result())
 
 
 def load_dataset(path: str | Path) -> Dataset:
