@@ -126,6 +126,8 @@ class ToyRefiner(cp.Refiner):
         return self
 
     def predict(self, z, u_hat):
+        if not hasattr(self, "offset_"):
+            raise cp.NotFittedError("fit first")
         return u_hat + self.offset_, np.broadcast_to(self.sigma_, u_hat.shape)
 
     def state_dict(self):

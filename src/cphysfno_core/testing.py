@@ -1,0 +1,189 @@
+"""Conformance checks every component of a kind must pass, for plugin authors' tests.
+
+Each ``check_*`` function raises ``AssertionError`` with a message naming the component and
+the broken promise, and returns nothing when the component conforms::
+
+    from cphysfno_core.testing import check_structure
+    check_structure(MyBuilding())
+
+The checks use small inputs (a few records, a few hundred samples) so that they run in
+seconds.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Any
+
+import numpy as np
+import torch
+
+from .errors import CapabilityError, CphysfnoError, NotFittedError
+from .interfaces import GroundMotionSource, NeuralOperator, PhysicsPreprocessor, Refiner, Structure
+from .signals import GroundMotions, LinearSystem, Responses
+
+
+def _fail(component: Any, message: str) -> AssertionError:
+    return AssertionError(f"{getattr(component, 'name', type(component).__name__)}: {message}")
+
+
+def small_motions(
+    n_records: int = 2, n_steps: int = 301, dt: float = 0.01, peak: float = 0.5, seed: int = 0
+) -> GroundMotions:
+    """Smooth random accelerations (m/s^2) of moderate amplitude for quick checks."""
+    rng = np.random.default_rng(seed)
+    raw = rng.standard_normal((n_records, n_steps))
+    kernel = np.hanning(9)
+    smooth = np.stack([np.convolve(row, kernel / kernel.sum(), mode="same") for row in raw])
+    smooth *= peak / np.max(np.abs(smooth), axis=1, keepdims=True)
+    return GroundMotions(smooth, dt)
+
+
+def _check_response(component: Any, values: np.ndarray, shape: tuple, what: str) -> None:
+    values = np.asarray(values)
+    if values.shape != shape:
+        raise _fail(component, f"{what} has shape {values.shape}, expected {shape}")
+    if values.dtype != np.float64:
+        raise _fail(component, f"{what} must be float64, got {values.dtype}")
+    if not np.isfinite(values).all():
+        raise _fail(component, f"{what} holds NaN or Inf for moderate input")
+
+
+def check_structure(structure: Structure) -> None:
+    """Shapes and units of ``simulate``, any T, at rest stays at rest, determinism,
+    elastic periods, and each capability it claims."""
+    names = structure.output_names
+    if not names or len(names) != structure.n_outputs:
+        raise _fail(structure, "output_names must name every output")
+    for n_steps in (201, 333):
+        motions = small_motions(n_steps=n_steps)
+        responses = structure.simulate(motions)
+        if not isinstance(responses, Responses):
+            raise _fail(structure, "simulate must return cphysfno_core.Responses")
+        if responses.dt != motions.dt:
+            raise _fail(structure, f"response dt {responses.dt} s != motion dt {motions.dt} s")
+        shape = (motions.n_records, n_steps, structure.n_outputs)
+        _check_response(structure, responses.displacement, shape, "displacement")
+    again = structure.simulate(motions).displacement
+    if not np.array_equal(again, responses.displacement):
+        raise _fail(structure, "simulate is not deterministic")
+    rest = structure.simulate(GroundMotions(np.zeros((1, 101)), 0.01)).displacement
+    if np.max(np.abs(rest)) != 0.0:
+        raise _fail(structure, "a structure at rest under zero ground motion must stay at rest")
+    periods = np.asarray(structure.periods(2))
+    if periods.shape != (min(2, len(structure.periods())),) or not (periods > 0).all():
+        raise _fail(structure, f"periods(2) must be positive seconds, got {periods}")
+    if (np.diff(structure.periods()) > 0).any():
+        raise _fail(structure, "periods() must list the longest period first")
+    capabilities = structure.capabilities()
+    if "linear_system" in capabilities:
+        system = structure.linear_system()
+        if not isinstance(system, LinearSystem):
+            raise _fail(structure, "linear_system() must return cphysfno_core.LinearSystem")
+        if system.output_map.shape[0] != structure.n_outputs:
+            raise _fail(structure, "linear_system().output_map must have one row per output")
+    else:
+        _expect(structure, CapabilityError, structure.linear_system)
+    if "coarse_simulation" in capabilities:
+        coarse = structure.simulate(motions, dt=3 * motions.dt)
+        n_coarse = int(np.ceil(motions.duration / (3 * motions.dt) - 1e-9)) + 1
+        shape = (motions.n_records, n_coarse, structure.n_outputs)
+        _check_response(structure, coarse.displacement, shape, "coarse displacement")
+
+
+def _expect(component: Any, error: type[BaseException], call, *args: Any) -> None:
+    try:
+        call(*args)
+    except error:
+        return
+    except Exception as other:
+        message = f"expected {error.__name__}, got {type(other).__name__}: {other}"
+        raise _fail(component, message) from other
+    raise _fail(component, f"expected {error.__name__}, nothing was raised")
+
+
+def check_ground_motion_source(source: GroundMotionSource, n: int = 3) -> None:
+    """``sample`` returns GroundMotions of at most ``n`` finite records, deterministic under
+    a seed."""
+    first = source.sample(n, np.random.default_rng(123))
+    if not isinstance(first, GroundMotions):
+        raise _fail(source, "sample must return cphysfno_core.GroundMotions")
+    if not 1 <= first.n_records <= n:
+        raise _fail(source, f"sample({n}) returned {first.n_records} records")
+    second = source.sample(n, np.random.default_rng(123))
+    if not np.array_equal(first.acceleration, second.acceleration) or first.dt != second.dt:
+        raise _fail(source, "sample is not deterministic under the same seed")
+
+
+def check_preprocessor(preprocessor: PhysicsPreprocessor, structure: Structure) -> None:
+    """Not usable before ``fit``; ``z`` of shape ``[n, T, n_outputs]`` in float64 on the
+    motion's own grid at any T; zero motion gives zero z; deterministic."""
+    fresh = copy.deepcopy(preprocessor)
+    _expect(preprocessor, NotFittedError, fresh.transform, small_motions())
+    if fresh.fit(structure) is not fresh:
+        raise _fail(preprocessor, "fit must return the preprocessor itself")
+    for n_steps in (201, 334):
+        motions = small_motions(n_steps=n_steps)
+        z = fresh.transform(motions)
+        shape = (motions.n_records, n_steps, structure.n_outputs)
+        _check_response(preprocessor, z, shape, "z")
+    if not np.array_equal(fresh.transform(motions), z):
+        raise _fail(preprocessor, "transform is not deterministic")
+    rest = fresh.transform(GroundMotions(np.zeros((1, 101)), 0.01))
+    if np.max(np.abs(rest)) != 0.0:
+        raise _fail(preprocessor, "zero ground motion must give zero z")
+
+
+def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
+    """Build with ``(in_channels=3, out_channels=2, **hyper)``: output ``[b, T, 2]`` at any
+    T, gradients reach every parameter, a state-dict round trip reproduces the output, the
+    state dict holds tensors only, and a wrong input raises the package's own error."""
+    torch.manual_seed(0)
+    operator = cls(3, 2, **hyper)
+    for steps in (64, 101):
+        x = torch.randn(2, steps, 3)
+        y = operator(x)
+        if tuple(y.shape) != (2, steps, 2):
+            raise _fail(operator, f"output shape {tuple(y.shape)} for input {tuple(x.shape)}")
+    y.square().mean().backward()
+    missing = [n for n, p in operator.named_parameters() if p.grad is None or not p.grad.any()]
+    if missing:
+        raise _fail(operator, f"no gradient reaches {', '.join(missing)}")
+    state = operator.state_dict()
+    if not all(isinstance(v, torch.Tensor) for v in state.values()):
+        raise _fail(operator, "state_dict must hold tensors only")
+    torch.manual_seed(1)
+    rebuilt = cls(3, 2, **hyper)
+    rebuilt.load_state_dict(state)
+    operator.eval()
+    rebuilt.eval()
+    with torch.no_grad():
+        if not torch.equal(operator(x), rebuilt(x)):
+            raise _fail(operator, "a state_dict round trip changes the output")
+    _expect(operator, CphysfnoError, operator, torch.randn(2, 50, 4))
+
+
+def check_refiner(refiner: Refiner) -> None:
+    """Not usable before ``fit``; ``(mean, std)`` of the input shape with std >= 0; a
+    state-dict round trip into a fresh instance reproduces the prediction; deterministic
+    under the same rng."""
+    rng = np.random.default_rng(0)
+    z = rng.standard_normal((6, 80, 2))
+    u_hat = z + 0.1 * rng.standard_normal(z.shape)
+    u = 0.5 * z + 0.5 * u_hat + 0.05 * rng.standard_normal(z.shape)
+    fresh = copy.deepcopy(refiner)
+    _expect(refiner, NotFittedError, fresh.predict, z, u_hat)
+    if fresh.fit(z, u_hat, u, np.random.default_rng(1)) is not fresh:
+        raise _fail(refiner, "fit must return the refiner itself")
+    mean, std = fresh.predict(z, u_hat)
+    for what, values in (("mean", mean), ("std", std)):
+        _check_response(refiner, np.asarray(values), z.shape, what)
+    if (np.asarray(std) < 0).any():
+        raise _fail(refiner, "std must be >= 0")
+    twin = copy.deepcopy(refiner)
+    twin.load_state_dict(fresh.state_dict())
+    if not np.array_equal(twin.predict(z, u_hat)[0], mean):
+        raise _fail(refiner, "a state_dict round trip changes the prediction")
+    again = copy.deepcopy(refiner).fit(z, u_hat, u, np.random.default_rng(1))
+    if not np.array_equal(again.predict(z, u_hat)[0], mean):
+        raise _fail(refiner, "fit is not deterministic under the same rng")

@@ -1,0 +1,110 @@
+"""Every registered component passes the conformance checks of its kind, and the checks
+catch components that break their contract."""
+
+import numpy as np
+import pytest
+import torch
+import toy_components
+
+import cphysfno_core as cp
+from cphysfno_core import testing
+
+REGISTRY = cp.Registry()
+
+
+def _names(kind):
+    return REGISTRY.names(kind)
+
+
+@pytest.mark.parametrize("name", _names("structure"))
+def test_registered_structures_conform(name):
+    testing.check_structure(REGISTRY.create("structure", name))
+
+
+@pytest.mark.parametrize("name", _names("ground_motion"))
+def test_registered_ground_motion_sources_conform(name):
+    testing.check_ground_motion_source(REGISTRY.create("ground_motion", name))
+
+
+@pytest.mark.parametrize("name", _names("preprocessor"))
+@pytest.mark.parametrize("structure_name", _names("structure"))
+def test_registered_preprocessors_conform_or_refuse(name, structure_name):
+    structure = REGISTRY.create("structure", structure_name)
+    preprocessor = REGISTRY.create("preprocessor", name)
+    try:
+        preprocessor.fit(structure)
+    except cp.CapabilityError as error:
+        assert structure_name in str(error) and name in str(error)
+        return
+    testing.check_preprocessor(REGISTRY.create("preprocessor", name), structure)
+
+
+@pytest.mark.parametrize("name", _names("operator"))
+def test_registered_operators_conform(name):
+    testing.check_operator(REGISTRY.get("operator", name))
+
+
+@pytest.mark.parametrize("name", _names("refiner"))
+def test_registered_refiners_conform(name):
+    testing.check_refiner(REGISTRY.create("refiner", name))
+
+
+def test_the_toy_components_conform():
+    structure = toy_components.ToyStructure(cubic=3.0)
+    testing.check_structure(structure)
+    testing.check_ground_motion_source(toy_components.ToySource())
+    testing.check_preprocessor(toy_components.ToyPreprocessor(), structure)
+    testing.check_refiner(toy_components.ToyRefiner())
+
+
+class DriftingStructure(toy_components.ToyStructure):
+    """Moves although the ground is still."""
+
+    name = "drifting"
+
+    def simulate(self, motions, *, dt=None):
+        responses = super().simulate(motions)
+        return cp.Responses(responses.displacement + 1e-3, responses.dt)
+
+
+class ForgetfulRefiner(toy_components.ToyRefiner):
+    """Saves nothing of what it learned."""
+
+    name = "forgetful"
+
+    def state_dict(self):
+        return {"offset": np.zeros_like(self.offset_), "sigma": self.sigma_}
+
+
+class FixedLengthOperator(toy_components.ToyOperator):
+    """Ignores the time axis length: always answers 10 steps."""
+
+    name = "fixed-length"
+
+    def forward(self, x):
+        return super().forward(x)[:, :10]
+
+
+@pytest.mark.parametrize(
+    "check, component, message",
+    [
+        (testing.check_structure, DriftingStructure(), "drifting: a structure at rest"),
+        (testing.check_refiner, ForgetfulRefiner(), "forgetful: a state_dict round trip"),
+        (testing.check_operator, FixedLengthOperator, "fixed-length: output shape"),
+    ],
+)
+def test_checks_catch_broken_contracts(check, component, message):
+    with pytest.raises(AssertionError, match=message):
+        check(component)
+
+
+def test_operator_check_wants_the_packages_error_for_bad_input():
+    class Silent(toy_components.ToyOperator):
+        name = "silent"
+
+        def forward(self, x):
+            return super().forward(x[..., :3])
+
+    with pytest.raises(AssertionError, match="silent: expected CphysfnoError"):
+        testing.check_operator(Silent)
+    assert torch.is_tensor(Silent(3, 2)(torch.zeros(1, 4, 3)))
