@@ -8,10 +8,11 @@ import json
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import torch
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .config import ComponentSpec, TrainingConfig
 from .errors import ConfigError, DatasetError, InputError, NotFittedError
@@ -20,6 +21,7 @@ from .interfaces import (
     PhysicsPreprocessor,
     Refiner,
     Structure,
+    format_validation_error,
     validate_params,
 )
 from .registry import get_registry
@@ -29,6 +31,32 @@ from .training import EpochReport, Normalizer, TrainingHistory, print_progress, 
 FORMAT = "cphysfno-composite"
 FORMAT_VERSION = 1
 PREDICT_CHUNK = 64
+
+SAVED_ARRAYS = ("input_mean", "input_std", "output_mean", "output_std", "validation_rmse")
+
+
+class SavedModel(BaseModel):
+    """Schema of ``model.json``: the parts by registry name and parameters."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    format: Literal["cphysfno-composite"]
+    format_version: Literal[1]
+    label: str
+    structure: dict[str, Any] | None
+    preprocessor: dict[str, Any] | None
+    refiner: dict[str, Any] | None
+    operator: dict[str, Any]
+    training: dict[str, Any]
+    history: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("structure", "preprocessor", "refiner", "operator")
+    @classmethod
+    def _named(cls, spec: dict[str, Any] | None) -> dict[str, Any] | None:
+        if spec is not None and not isinstance(spec.get("name"), str):
+            raise ValueError("a part needs its registry name")
+        return spec
+
 
 PartLike = str | tuple[str, dict[str, Any]] | ComponentSpec | Any
 
@@ -309,46 +337,52 @@ class CompositeModel:
 
     @classmethod
     def load(cls, directory: str | Path) -> CompositeModel:
-        """Rebuild a saved model from its parts' names and parameters; no code is unpickled."""
+        """Rebuild a saved model from its parts' names and parameters; no code is unpickled.
+
+        ``model.json`` is validated, the tensors are read with ``weights_only=True`` and the
+        arrays without pickle; a tampered, truncated or foreign file raises DatasetError.
+        """
         directory = Path(directory)
         try:
-            description = json.loads((directory / "model.json").read_text())
-        except (OSError, json.JSONDecodeError) as error:
+            saved = SavedModel.model_validate_json((directory / "model.json").read_text())
+        except OSError as error:
             raise DatasetError(f"{directory} holds no readable model.json: {error}") from None
-        if description.get("format") != FORMAT:
-            raise DatasetError(f"{directory}/model.json is not a {FORMAT} model")
+        except ValidationError as error:
+            problems = format_validation_error(error)
+            raise DatasetError(
+                f"{directory}/model.json is not a {FORMAT} model: {problems}"
+            ) from None
         registry = get_registry()
 
-        def build(kind: str, spec: dict | None) -> Any:
+        def build(kind: str, spec: dict[str, Any] | None) -> Any:
             if spec is None:
                 return None
             spec = dict(spec)
             return registry.create(kind, spec.pop("name"), **spec)
 
-        operator_spec = dict(description["operator"])
-        in_channels = operator_spec.pop("in_channels")
-        out_channels = operator_spec.pop("out_channels")
-        operator = build(
-            "operator", {**operator_spec, "in_channels": in_channels, "out_channels": out_channels}
-        )
+        operator = build("operator", saved.operator)
         try:
             state = torch.load(directory / "operator.pt", weights_only=True, map_location="cpu")
             operator.load_state_dict(state)
-            arrays = dict(np.load(directory / "arrays.npz", allow_pickle=False))
+            with np.load(directory / "arrays.npz", allow_pickle=False) as stored:
+                arrays = {key: stored[key] for key in stored.files}
+            normalizers = [arrays[key] for key in SAVED_ARRAYS]
         except Exception as error:
-            raise DatasetError(f"{directory}: cannot load the model's weights: {error}") from None
+            raise DatasetError(
+                f"{directory}: cannot load the model's weights ({type(error).__name__}: {error})"
+            ) from None
         model = cls(
             operator,
-            structure=build("structure", description["structure"]),
-            preprocessor=build("preprocessor", description["preprocessor"]),
-            refiner=build("refiner", description["refiner"]),
-            training=TrainingConfig.model_validate(description["training"]),
+            structure=build("structure", saved.structure),
+            preprocessor=build("preprocessor", saved.preprocessor),
+            refiner=build("refiner", saved.refiner),
+            training=TrainingConfig.model_validate(saved.training),
         )
-        model.input_normalizer_ = Normalizer(arrays["input_mean"], arrays["input_std"])
-        model.output_normalizer_ = Normalizer(arrays["output_mean"], arrays["output_std"])
-        model.validation_rmse_ = arrays["validation_rmse"]
-        history = description.get("history", {})
-        model.history_ = TrainingHistory(**history) if history else TrainingHistory()
+        input_mean, input_std, output_mean, output_std, validation_rmse = normalizers
+        model.input_normalizer_ = Normalizer(input_mean, input_std)
+        model.output_normalizer_ = Normalizer(output_mean, output_std)
+        model.validation_rmse_ = validation_rmse
+        model.history_ = TrainingHistory(**saved.history) if saved.history else TrainingHistory()
         if model.refiner is not None:
             prefix = "refiner."
             model.refiner.load_state_dict(
