@@ -23,6 +23,7 @@ def test_ground_motions_carry_their_time_step():
         (np.zeros((2, 5)), "fast", "dt must be a number of seconds"),
         (np.zeros((2, 1)), 0.01, "at least 2 time steps"),
         ([["a", "b"]], 0.01, "numeric array"),
+        (np.ones((1, 3), dtype=complex), 0.01, "must be real"),
     ],
 )
 def test_bad_ground_motions_say_what_to_change(ag, dt, message):

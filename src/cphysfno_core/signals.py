@@ -46,6 +46,8 @@ class GroundMotions:
     metadata: Sequence[Mapping[str, Any]] = field(default_factory=tuple)
 
     def __post_init__(self) -> None:
+        if np.iscomplexobj(self.acceleration):
+            raise InputError("acceleration must be real, got complex values")
         try:
             ag = np.asarray(self.acceleration, dtype=np.float64)
         except (TypeError, ValueError):
