@@ -73,6 +73,7 @@ def test_autoload_can_be_disabled_and_plugins_named(monkeypatch):
     try:
         registry = get_registry()
         assert [e.name for e in registry.entries()] == [
+            "toy-dying-once",
             "toy-structure",
             "toy-source",
             "needs-linear-system",

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 import torch
 from pydantic import Field
@@ -48,6 +51,23 @@ class ToyStructure(cp.Structure):
             v = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
             out[:, k + 1] = u
         return cp.Responses(out, motions.dt)
+
+
+class DyingOnceStructure(ToyStructure):
+    """The toy structure, except that the first simulation anywhere kills its process
+    (it leaves ``marker`` behind so that the next attempt lives)."""
+
+    name = "toy-dying-once"
+
+    class Params(ToyStructure.Params):
+        marker: str
+
+    def simulate(self, motions, *, dt=None):
+        marker = Path(self.params.marker)
+        if not marker.exists():
+            marker.write_text(str(os.getpid()))
+            os._exit(1)
+        return super().simulate(motions, dt=dt)
 
 
 class ToySource(cp.GroundMotionSource):
@@ -139,7 +159,7 @@ class ToyRefiner(cp.Refiner):
 
 @cp.hookimpl
 def cphysfno_structures():
-    return [ToyStructure]
+    return [ToyStructure, DyingOnceStructure]
 
 
 @cp.hookimpl

@@ -49,8 +49,20 @@ class DataConfig(_Strict):
     n_test: int = Field(200, gt=0)
     seed: int = 0
     chunk_size: int = Field(100, gt=0, description="records per simulation task")
-    executor: Literal["serial", "processes"] = "processes"
-    workers: int | None = Field(None, gt=0, description="processes; default: CPU count")
+    executor: Literal["serial", "processes", "dask"] = "processes"
+    workers: int | None = Field(
+        None, gt=0, description="local processes or LocalCluster workers; default: CPU count"
+    )
+    address: str | None = Field(
+        None, description="address of a running dask.distributed scheduler (executor 'dask')"
+    )
+    retries: int = Field(2, ge=0, description="reruns of a failed Dask task")
+
+    @model_validator(mode="after")
+    def _address_needs_dask(self) -> DataConfig:
+        if self.address is not None and self.executor != "dask":
+            raise ValueError("address is for executor = 'dask'")
+        return self
 
     @property
     def n_records(self) -> int:

@@ -12,11 +12,8 @@ from __future__ import annotations
 
 import hashlib
 import json
-import multiprocessing
 import sys
 import time
-from collections import deque
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
@@ -27,6 +24,7 @@ import numpy as np
 
 from .config import ExperimentConfig
 from .errors import DatasetError
+from .executors import run_tasks
 from .registry import get_registry
 from .signals import GroundMotions
 
@@ -90,7 +88,8 @@ def _versions() -> dict[str, str]:
 def dataset_identity(config: ExperimentConfig) -> dict[str, Any]:
     """The parts of a config that determine the data (not how it is computed)."""
     full = config.to_dict()
-    data = {k: v for k, v in full["data"].items() if k not in ("executor", "workers", "chunk_size")}
+    how = ("executor", "workers", "address", "retries", "chunk_size")
+    data = {k: v for k, v in full["data"].items() if k not in how}
     return {
         "structure": full["structure"],
         "ground_motion": full["ground_motion"],
@@ -175,13 +174,12 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
             f"ground motion '{source.name}' gave {motions.n_records} records but the data "
             f"section asks for {n} (n_train + n_val + n_test): lower the split sizes"
         )
-    chunk = config.data.chunk_size
-    bounds = [(s, min(s + chunk, n)) for s in range(0, n, chunk)]
     shape = (n, motions.n_steps, structure.n_outputs)
     path.parent.mkdir(parents=True, exist_ok=True)
     with h5py.File(path, "a") as f:
         if "ag" not in f:
             f.attrs["complete"] = False
+            f.attrs["chunk_size"] = config.data.chunk_size
             f.attrs["config_hash"] = identity_hash
             f.attrs["config"] = json.dumps(config.to_dict())
             f.attrs["seed"] = config.data.seed
@@ -194,6 +192,9 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
             f.create_dataset("u", shape=shape, dtype="f8")
             for pp in config.preprocessor:
                 f.create_dataset(f"z/{pp.name}", shape=shape, dtype="f8")
+        chunk = int(f.attrs["chunk_size"])  # a resumed run keeps the chunks it started with
+        bounds = [(s, min(s + chunk, n)) for s in range(0, n, chunk)]
+        if "chunk_done" not in f:
             f.create_dataset("chunk_done", data=np.zeros(len(bounds), dtype=bool))
         done = f["chunk_done"][...]
         todo = [i for i in range(len(bounds)) if not done[i]]
@@ -236,24 +237,7 @@ def _run_chunks(config, structure, motions, bounds, todo, f, progress) -> None:
         start, stop = bounds[i]
         return structure_spec, pp_specs, motions.acceleration[start:stop], motions.dt
 
-    workers = config.data.workers or multiprocessing.cpu_count()
-    if config.data.executor == "serial" or len(todo) <= 1 or workers == 1:
-        for i in todo:
-            store(i, simulate_chunk(*args(i)))
-        return
-    context = multiprocessing.get_context("spawn")
-    workers = min(workers, len(todo))
-    in_flight = 2 * workers  # bounded, so memory does not grow with the number of records
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        pending = deque()
-        for i in todo:
-            pending.append((i, pool.submit(simulate_chunk, *args(i))))
-            if len(pending) >= in_flight:
-                done_index, future = pending.popleft()
-                store(done_index, future.result())
-        while pending:
-            done_index, future = pending.popleft()
-            store(done_index, future.result())
+    run_tasks(simulate_chunk, [(i, args(i)) for i in todo], config.data, store)
 
 
 def load_dataset(path: str | Path) -> Dataset:

@@ -1,0 +1,111 @@
+"""Where simulation chunks run: in this process, in local worker processes, or on a Dask
+cluster. Every executor hands each result to the caller as soon as it is ready, keeps a
+bounded number of chunks in flight (memory does not grow with the dataset), and gives the
+same results: what a chunk computes depends on its records only, never on its worker.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import multiprocessing
+from collections.abc import Callable, Iterable
+from contextlib import contextmanager
+from typing import Any
+
+from .config import DataConfig
+from .errors import ConfigError
+
+Task = tuple[int, tuple[Any, ...]]
+
+
+def _windowed(
+    submit: Callable[..., Any],
+    wait_any: Callable[[set], tuple[set, set]],
+    function: Callable[..., Any],
+    tasks: Iterable[Task],
+    window: int,
+    on_result: Callable[[int, Any], None],
+) -> None:
+    pending: dict[Any, int] = {}
+
+    def drain(until: int) -> None:
+        while len(pending) > until:
+            done, _ = wait_any(set(pending))
+            for future in done:
+                on_result(pending.pop(future), future.result())
+
+    for key, arguments in tasks:
+        pending[submit(function, *arguments, key=key)] = key
+        drain(window - 1)
+    drain(0)
+
+
+@contextmanager
+def _dask_client(settings: DataConfig):
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise ConfigError(
+            "data.executor = 'dask' needs the distributed package: pip install 'dask[distributed]'"
+        ) from None
+    if settings.address:
+        with Client(settings.address) as client:
+            yield client
+        return
+    workers = settings.workers or multiprocessing.cpu_count()
+    with (
+        LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        yield client
+
+
+def run_tasks(
+    function: Callable[..., Any],
+    tasks: list[Task],
+    settings: DataConfig,
+    on_result: Callable[[int, Any], None],
+) -> None:
+    """Run ``function(*arguments)`` for every ``(key, arguments)`` task on the executor of
+    ``settings`` and call ``on_result(key, result)`` in the order results arrive.
+
+    A task whose Dask worker dies is run again elsewhere (``settings.retries`` times);
+    any other failure propagates.
+    """
+    workers = settings.workers or multiprocessing.cpu_count()
+    if settings.executor == "serial" or (
+        settings.executor == "processes" and (len(tasks) <= 1 or workers == 1)
+    ):
+        for key, arguments in tasks:
+            on_result(key, function(*arguments))
+        return
+    window = 2 * workers
+    if settings.executor == "processes":
+        context = multiprocessing.get_context("spawn")
+        with concurrent.futures.ProcessPoolExecutor(
+            max_workers=min(workers, len(tasks)), mp_context=context
+        ) as pool:
+
+            def submit(fn, *arguments, key):
+                return pool.submit(fn, *arguments)
+
+            def wait_any(futures):
+                return concurrent.futures.wait(
+                    futures, return_when=concurrent.futures.FIRST_COMPLETED
+                )
+
+            _windowed(submit, wait_any, function, tasks, window, on_result)
+        return
+    from distributed import wait
+
+    with _dask_client(settings) as client:
+
+        def submit(fn, *arguments, key):
+            return client.submit(fn, *arguments, pure=False, retries=settings.retries)
+
+        def wait_any(futures):
+            return wait(list(futures), return_when="FIRST_COMPLETED")
+
+        _windowed(submit, wait_any, function, tasks, window, on_result)
