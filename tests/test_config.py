@@ -32,7 +32,7 @@ def test_a_valid_config_parses_with_component_fields(toy_registry):
         (
             _with("structure", name="tower"),
             r"^structure\.name: unknown structure 'tower'.*"
-            r"known structure names: toy-dying-once, toy-structure",
+            r"known structure names: .*toy-structure",
         ),
         (_with("data", n_train=0), r"^data\.n_train: Input should be greater than 0"),
         (_with("training", epochs="many"), r"^training\.epochs: Input should be a valid"),

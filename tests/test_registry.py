@@ -72,15 +72,15 @@ def test_autoload_can_be_disabled_and_plugins_named(monkeypatch):
     set_registry(None)
     try:
         registry = get_registry()
-        assert [e.name for e in registry.entries()] == [
-            "toy-dying-once",
-            "toy-structure",
+        names = [e.name for e in registry.entries()]
+        assert names[-5:] == [
             "toy-source",
             "needs-linear-system",
             "toy-linear",
             "toy-operator",
             "toy-refiner",
         ]
+        assert "toy-structure" in names and not any(n == "fno" for n in names)
     finally:
         set_registry(None)
 

@@ -53,6 +53,36 @@ class ToyStructure(cp.Structure):
         return cp.Responses(out, motions.dt)
 
 
+class FragileStructure(ToyStructure):
+    """The toy structure, failing on records whose peak |a_g| exceeds ``limit``: with NaN
+    output (``mode = "nan"``) or an exception (``mode = "raise"``)."""
+
+    name = "toy-fragile"
+
+    class Params(ToyStructure.Params):
+        limit: float = 1.0
+        mode: str = "nan"
+
+    def simulate(self, motions, *, dt=None):
+        responses = super().simulate(motions, dt=dt)
+        broken = np.max(np.abs(motions.acceleration), axis=1) > self.params.limit
+        if broken.any() and self.params.mode == "raise":
+            raise cp.CphysfnoError("Newton did not converge")
+        displacement = responses.displacement.copy()
+        displacement[broken] = np.nan
+        return cp.Responses(displacement, responses.dt)
+
+
+class WrongShapeStructure(ToyStructure):
+    """Returns one output too few: a broken plugin."""
+
+    name = "toy-wrong-shape"
+
+    def simulate(self, motions, *, dt=None):
+        responses = super().simulate(motions, dt=dt)
+        return cp.Responses(responses.displacement[:, :, :1], responses.dt)
+
+
 class DyingOnceStructure(ToyStructure):
     """The toy structure, except that the first simulation anywhere kills its process
     (it leaves ``marker`` behind so that the next attempt lives)."""
@@ -159,7 +189,7 @@ class ToyRefiner(cp.Refiner):
 
 @cp.hookimpl
 def cphysfno_structures():
-    return [ToyStructure, DyingOnceStructure]
+    return [ToyStructure, DyingOnceStructure, FragileStructure, WrongShapeStructure]
 
 
 @cp.hookimpl

@@ -57,6 +57,11 @@ class DataConfig(_Strict):
         None, description="address of a running dask.distributed scheduler (executor 'dask')"
     )
     retries: int = Field(2, ge=0, description="reruns of a failed Dask task")
+    on_failure: Literal["raise", "skip"] = Field(
+        "raise",
+        description="a record whose simulation fails stops the run, or is skipped "
+        "and listed in the dataset",
+    )
 
     @model_validator(mode="after")
     def _address_needs_dask(self) -> DataConfig:

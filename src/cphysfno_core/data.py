@@ -14,7 +14,7 @@ import hashlib
 import json
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -27,6 +27,7 @@ from .errors import DatasetError
 from .executors import run_tasks
 from .registry import get_registry
 from .signals import GroundMotions
+from .simulation import ChunkResult, simulate_chunk
 
 SPLITS = ("train", "val", "test")
 
@@ -43,6 +44,8 @@ class Dataset:
         dt: time step, s.
         output_names: names of the output DOFs.
         sizes: records in the train, val and test splits, in this order in the file.
+        failures: record index -> cause, for records whose simulation failed; they are
+            left out of every split.
     """
 
     ag: np.ndarray
@@ -52,13 +55,16 @@ class Dataset:
     dt: float
     output_names: tuple[str, ...]
     sizes: dict[str, int]
+    failures: dict[int, str] = field(default_factory=dict)
 
-    def rows(self, split: str) -> slice:
-        """The record indices of ``split`` (``train``, ``val`` or ``test``)."""
+    def rows(self, split: str) -> np.ndarray:
+        """The record indices of ``split`` (``train``, ``val`` or ``test``), failed records
+        left out."""
         if split not in SPLITS:
             raise DatasetError(f"unknown split '{split}': use one of {', '.join(SPLITS)}")
         start = sum(self.sizes[s] for s in SPLITS[: SPLITS.index(split)])
-        return slice(start, start + self.sizes[split])
+        rows = np.arange(start, start + self.sizes[split])
+        return rows[~np.isin(rows, list(self.failures))]
 
     def motions(self, split: str) -> GroundMotions:
         return GroundMotions(self.ag[self.rows(split)], self.dt)
@@ -88,7 +94,7 @@ def _versions() -> dict[str, str]:
 def dataset_identity(config: ExperimentConfig) -> dict[str, Any]:
     """The parts of a config that determine the data (not how it is computed)."""
     full = config.to_dict()
-    how = ("executor", "workers", "address", "retries", "chunk_size")
+    how = ("executor", "workers", "address", "retries", "chunk_size", "on_failure")
     data = {k: v for k, v in full["data"].items() if k not in how}
     return {
         "structure": full["structure"],
@@ -100,30 +106,6 @@ def dataset_identity(config: ExperimentConfig) -> dict[str, Any]:
 
 def _hash(identity: dict[str, Any]) -> str:
     return hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:16]
-
-
-def simulate_chunk(
-    structure_spec: dict[str, Any],
-    preprocessor_specs: list[dict[str, Any]],
-    acceleration: np.ndarray,
-    dt: float,
-) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """Truth and physics responses of one chunk of records; runs in a worker process.
-
-    Components are rebuilt here from their names and parameters, so nothing but plain
-    data crosses the process boundary.
-    """
-    registry = get_registry()
-    spec = dict(structure_spec)
-    structure = registry.create("structure", spec.pop("name"), **spec)
-    motions = GroundMotions(acceleration, dt)
-    responses = structure.simulate(motions)
-    z = {}
-    for pp_spec in preprocessor_specs:
-        pp_spec = dict(pp_spec)
-        name = pp_spec.pop("name")
-        z[name] = registry.create("preprocessor", name, **pp_spec).fit(structure).transform(motions)
-    return responses.displacement, dict(responses.extras), z
 
 
 def _check_existing(path: Path, identity_hash: str) -> bool:
@@ -209,14 +191,27 @@ def _run_chunks(config, structure, motions, bounds, todo, f, progress) -> None:
     started = time.perf_counter()
     finished = 0
 
-    def store(i: int, result) -> None:
+    def store(i: int, result: ChunkResult) -> None:
         nonlocal finished
         start, stop = bounds[i]
-        u, extras, z = result
-        f["u"][start:stop] = u
-        for name, values in z.items():
+        failures = {start + k: cause for k, cause in result.failures.items()}
+        if failures and config.data.on_failure == "raise":
+            index, cause = next(iter(failures.items()))
+            raise DatasetError(
+                f"record {index} failed: {cause} (set data.on_failure = 'skip' to list failed "
+                "records in the dataset and go on)"
+            )
+        if failures:
+            recorded = json.loads(f.attrs.get("failures", "{}"))
+            recorded.update({str(k): v for k, v in failures.items()})
+            f.attrs["failures"] = json.dumps(recorded)
+            if progress:
+                for index, cause in failures.items():
+                    print(f"  record {index} skipped: {cause}", file=sys.stderr, flush=True)
+        f["u"][start:stop] = result.u
+        for name, values in result.z.items():
             f[f"z/{name}"][start:stop] = values
-        for name, values in extras.items():
+        for name, values in result.extras.items():
             key = f"extras/{name}"
             if key not in f:
                 f.create_dataset(key, shape=(f["u"].shape[0], *values.shape[1:]), dtype="f4")
@@ -260,6 +255,7 @@ def load_dataset(path: str | Path) -> Dataset:
                 dt=float(f.attrs["dt"]),
                 output_names=tuple(json.loads(f.attrs["output_names"])),
                 sizes={s: int(f.attrs[f"n_{s}"]) for s in SPLITS},
+                failures={int(k): v for k, v in json.loads(f.attrs.get("failures", "{}")).items()},
             )
     except (OSError, KeyError) as error:
         raise DatasetError(f"{path} is not a cphysfno dataset: {error}") from None

@@ -29,3 +29,7 @@ class DatasetError(CphysfnoError, OSError):
 
 class NotFittedError(CphysfnoError, RuntimeError):
     """A component was used before ``fit``."""
+
+
+class PluginError(CphysfnoError, RuntimeError):
+    """A plugin broke its contract (for example returned an array of the wrong shape)."""

@@ -1,0 +1,140 @@
+"""Simulation of one chunk of records: truth and physics responses, with every record that
+fails (an exception, or NaN/Inf in its output) found and named, and every plugin output
+checked for its shape."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .errors import PluginError
+from .registry import get_registry
+from .signals import GroundMotions
+
+
+@dataclass
+class ChunkResult:
+    """What one chunk produced.
+
+    Attributes:
+        u: ``[n, T, n_out]`` truth in m (NaN rows for failed records).
+        extras: extra structural channels, ``[n, T, k]`` each.
+        z: preprocessor name -> ``[n, T, n_out]`` physics responses in m.
+        failures: index within the chunk -> cause, for the records that failed.
+    """
+
+    u: np.ndarray
+    extras: dict[str, np.ndarray]
+    z: dict[str, np.ndarray]
+    failures: dict[int, str] = field(default_factory=dict)
+
+
+class _Parts:
+    """Structure and fitted preprocessors rebuilt from their names and parameters."""
+
+    def __init__(self, structure_spec: dict[str, Any], preprocessor_specs: list[dict[str, Any]]):
+        registry = get_registry()
+        spec = dict(structure_spec)
+        self.structure_entry = registry.entry("structure", spec.pop("name"))
+        self.structure = registry.create("structure", self.structure_entry.name, **spec)
+        self.preprocessors = {}
+        for pp_spec in preprocessor_specs:
+            pp_spec = dict(pp_spec)
+            name = pp_spec.pop("name")
+            entry = registry.entry("preprocessor", name)
+            self.preprocessors[name] = (entry, entry.cls(**pp_spec).fit(self.structure))
+
+    def run(self, motions: GroundMotions) -> ChunkResult:
+        """Simulate ``motions``; a malformed plugin output raises naming its provider."""
+        shape = (motions.n_records, motions.n_steps, self.structure.n_outputs)
+        responses = self.structure.simulate(motions)
+        _check_shape(responses.displacement, shape, self.structure_entry, "displacement")
+        extras = {}
+        for name, values in responses.extras.items():
+            _check_shape(values, shape[:2] + np.shape(values)[2:], self.structure_entry, name)
+            extras[name] = np.asarray(values)
+        z = {}
+        for name, (entry, preprocessor) in self.preprocessors.items():
+            z[name] = np.asarray(preprocessor.transform(motions), dtype=np.float64)
+            _check_shape(z[name], shape, entry, "z")
+        return ChunkResult(responses.displacement, extras, z)
+
+
+def _check_shape(values: Any, shape: tuple, entry: Any, what: str) -> None:
+    found = np.shape(values)
+    if found != shape or np.ndim(values) < 3:
+        raise PluginError(
+            f"{entry.kind} '{entry.name}' from {entry.distribution} returned {what} of shape "
+            f"{found}, expected {shape}"
+        )
+
+
+def _non_finite(result: ChunkResult) -> list[int]:
+    arrays = [result.u, *result.z.values()]
+    bad = np.zeros(result.u.shape[0], dtype=bool)
+    for values in arrays:
+        bad |= ~np.isfinite(values).all(axis=(1, 2))
+    return [int(i) for i in np.flatnonzero(bad)]
+
+
+def simulate_chunk(
+    structure_spec: dict[str, Any],
+    preprocessor_specs: list[dict[str, Any]],
+    acceleration: np.ndarray,
+    dt: float,
+) -> ChunkResult:
+    """Truth and physics responses of one chunk of records; runs in a worker process.
+
+    Components are rebuilt here from their names and parameters, so nothing but plain data
+    crosses the process boundary. If the chunk fails, or some records come out with NaN or
+    Inf, the records are simulated one at a time to find which fail and why; a failed
+    record's rows are NaN and its cause is in ``failures``.
+    """
+    parts = _Parts(structure_spec, preprocessor_specs)
+    motions = GroundMotions(acceleration, dt)
+    try:
+        result = parts.run(motions)
+        if not _non_finite(result):
+            return result
+    except PluginError:
+        raise
+    except Exception:  # noqa: BLE001 - the records are rerun one by one to find the cause
+        pass
+    return _record_by_record(parts, motions)
+
+
+def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
+    results: list[ChunkResult | None] = []
+    failures: dict[int, str] = {}
+    for i in range(motions.n_records):
+        try:
+            single = parts.run(motions[i])
+        except PluginError:
+            raise
+        except Exception as error:  # noqa: BLE001 - a failed record is listed with its cause
+            failures[i] = f"{type(error).__name__}: {error}"
+            results.append(None)
+            continue
+        if _non_finite(single):
+            failures[i] = "NaN or Inf in the response (the simulation diverged)"
+            results.append(None)
+            continue
+        results.append(single)
+    template = next((r for r in results if r is not None), None)
+    if template is None:
+        shape = (motions.n_records, motions.n_steps, parts.structure.n_outputs)
+        nan = np.full(shape, np.nan)
+        return ChunkResult(nan, {}, {name: nan.copy() for name in parts.preprocessors}, failures)
+
+    def stack(pick) -> np.ndarray:
+        rows = [pick(r) if r is not None else np.full_like(pick(template), np.nan) for r in results]
+        return np.concatenate(rows, axis=0)
+
+    return ChunkResult(
+        stack(lambda r: r.u),
+        {name: stack(lambda r, n=name: r.extras[n]) for name in template.extras},
+        {name: stack(lambda r, n=name: r.z[n]) for name in template.z},
+        failures,
+    )

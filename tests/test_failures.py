@@ -1,0 +1,68 @@
+"""Records whose simulation fails are named, and either stop the run or are skipped and
+listed; a plugin returning a wrong shape is named."""
+
+import numpy as np
+import pytest
+
+import cphysfno_core as cp
+from cphysfno_core import pipeline
+
+CONFIG = {
+    "ground_motion": {"name": "toy-source", "n_steps": 60, "scale": 0.2},
+    "preprocessor": [{"name": "toy-linear"}],
+    "operator": {"name": "toy-operator"},
+    "data": {"n_train": 8, "n_val": 3, "n_test": 4, "chunk_size": 5, "executor": "serial"},
+    "training": {"epochs": 1, "batch_size": 4},
+}
+
+
+def _config(structure, **data):
+    return cp.parse_config({**CONFIG, "structure": structure, "data": {**CONFIG["data"], **data}})
+
+
+def _peaks(config):
+    source = cp.create("ground_motion", "toy-source", n_steps=60, scale=0.2)
+    motions = source.sample(config.data.n_records, np.random.default_rng(config.data.seed))
+    return np.max(np.abs(motions.acceleration), axis=1)
+
+
+@pytest.mark.parametrize("mode", ["nan", "raise"])
+def test_a_failed_record_stops_the_run_with_its_index_and_cause(toy_registry, tmp_path, mode):
+    config = _config({"name": "toy-fragile", "limit": 1.0, "mode": mode})
+    peaks = _peaks(config)
+    limit = float(np.sort(peaks)[-3])  # the two records with the largest peaks fail
+    config = _config({"name": "toy-fragile", "limit": limit, "mode": mode})
+    first = int(np.flatnonzero(peaks > limit)[0])
+    cause = "NaN or Inf" if mode == "nan" else "Newton did not converge"
+    with pytest.raises(cp.DatasetError, match=f"record {first} failed: .*{cause}"):
+        cp.generate_dataset(config, tmp_path / "d.h5", progress=False)
+    with pytest.raises(cp.DatasetError, match="incomplete"):
+        cp.load_dataset(tmp_path / "d.h5")
+
+
+def test_skipped_records_are_listed_and_left_out_of_the_splits(toy_registry, tmp_path):
+    probe = _config({"name": "toy-fragile"})
+    peaks = _peaks(probe)
+    limit = float(np.sort(peaks)[-3])
+    failed = set(np.flatnonzero(peaks > limit).tolist())
+    config = _config({"name": "toy-fragile", "limit": limit, "mode": "raise"}, on_failure="skip")
+    cp.generate_dataset(config, tmp_path / "run" / "dataset.h5", progress=False)
+    data = cp.load_dataset(tmp_path / "run" / "dataset.h5")
+    assert set(data.failures) == failed
+    assert all("Newton did not converge" in cause for cause in data.failures.values())
+    kept = np.concatenate([data.rows(s) for s in ("train", "val", "test")])
+    assert sorted(kept.tolist() + sorted(failed)) == list(range(15))
+    assert np.isfinite(data.targets("test")).all() and np.isfinite(data.targets("train")).all()
+    assert np.isnan(data.u[sorted(failed)]).all()
+    pipeline.train(config, tmp_path / "run")  # the good records are still usable
+
+
+def test_a_plugin_returning_a_wrong_shape_is_named(toy_registry, tmp_path):
+    config = _config({"name": "toy-wrong-shape"}, on_failure="skip")
+    with pytest.raises(
+        cp.CphysfnoError,
+        match=r"structure 'toy-wrong-shape' from \(registered "
+        r"in code\) returned displacement of shape \(5, 60, 1\), expected "
+        r"\(5, 60, 2\)",
+    ):
+        cp.generate_dataset(config, tmp_path / "d.h5", progress=False)
