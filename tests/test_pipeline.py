@@ -2,12 +2,13 @@ import json
 import os
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pytest
 
 import cphysfno_core as cp
+from cphysfno_core import generation
 from cphysfno_core.cli import main
+from cphysfno_core.simulation import simulate_chunk
 
 CONFIG = """
 [structure]
@@ -105,21 +106,34 @@ def test_stages_run_separately_and_evaluate_needs_training(toy_registry, tmp_pat
     assert (out / "report.md").exists()
 
 
-def test_generation_resumes_and_an_incomplete_file_says_so(toy_registry, tmp_path):
+def test_generation_resumes_and_an_incomplete_dataset_says_so(toy_registry, tmp_path, monkeypatch):
     config = cp.load_config(_config(tmp_path))
+    cp.generate_dataset(config, tmp_path / "reference.h5", progress=False)
+    reference = cp.load_dataset(tmp_path / "reference.h5")
+    calls = []
+
+    def killed_after_two_chunks(*arguments):
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        calls.append(arguments)
+        return simulate_chunk(*arguments)
+
     path = tmp_path / "data.h5"
-    cp.generate_dataset(config, path, progress=False)
-    reference = cp.load_dataset(path)
-    with h5py.File(path, "a") as f:  # as if killed after the first two chunks
-        f.attrs["complete"] = False
-        f["chunk_done"][2:] = False
-        f["u"][10:] = 0.0
+    monkeypatch.setattr(generation, "simulate_chunk", killed_after_two_chunks)
+    with pytest.raises(KeyboardInterrupt):
+        cp.generate_dataset(config, path, progress=False)
     with pytest.raises(cp.DatasetError, match="incomplete.*run the same"):
         cp.load_dataset(path)
+    calls.clear()
+    monkeypatch.setattr(
+        generation, "simulate_chunk", lambda *a: calls.append(a) or simulate_chunk(*a)
+    )
     cp.generate_dataset(config, path, progress=False)
+    assert len(calls) == 3  # 5 chunks of 5 records: only the 3 missing ones are simulated
     resumed = cp.load_dataset(path)
     np.testing.assert_array_equal(resumed.u, reference.u)
     np.testing.assert_array_equal(resumed.z["toy-linear"], reference.z["toy-linear"])
+    assert not (tmp_path / "data.h5.parts").exists()
 
 
 def test_a_dataset_of_another_config_is_not_overwritten(toy_registry, tmp_path):

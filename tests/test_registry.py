@@ -10,7 +10,7 @@ from cphysfno_core.cli import main
 def test_create_builds_a_validated_component(toy_registry):
     structure = cp.create("structure", "toy-structure", cubic=2.0)
     assert structure.params.cubic == 2.0
-    assert structure.get_params() == {"frequencies_hz": [1.0, 3.0], "cubic": 2.0}
+    assert structure.get_params() == {"frequencies_hz": [1.0, 3.0], "cubic": 2.0, "delay_s": 0.0}
 
 
 def test_unknown_name_lists_the_known_ones(toy_registry):
@@ -92,7 +92,7 @@ def test_plugins_command_lists_components_parameters_and_broken(toy_registry, ca
     assert main(["plugins"]) == 0
     out = capsys.readouterr().out
     assert "structure:" in out and "toy-structure" in out
-    assert "parameters: frequencies_hz=(1.0, 3.0), cubic=0.0" in out
+    assert "parameters: frequencies_hz=(1.0, 3.0), cubic=0.0, delay_s=0.0" in out
     assert "broken:" in out and "bad-dist 0.1: ZeroDivisionError" in out
 
 

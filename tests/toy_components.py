@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,7 @@ class ToyStructure(cp.Structure):
     class Params(cp.Params):
         frequencies_hz: tuple[float, float] = (1.0, 3.0)
         cubic: float = 0.0
+        delay_s: float = 0.0
 
     @property
     def output_names(self):
@@ -29,6 +31,7 @@ class ToyStructure(cp.Structure):
         return (1.0 / np.asarray(self.params.frequencies_hz))[:n]
 
     def simulate(self, motions, *, dt=None):
+        time.sleep(self.params.delay_s)
         w = 2 * np.pi * np.asarray(self.params.frequencies_hz)
         ag = motions.acceleration
         n, steps = ag.shape

@@ -2,7 +2,7 @@
 
 from .composite import CompositeModel, Prediction, compose
 from .config import ComponentSpec, ExperimentConfig, TrainingConfig, load_config, parse_config
-from .data import Dataset, generate_dataset, load_dataset
+from .data import Dataset, load_dataset
 from .errors import (
     CapabilityError,
     ConfigError,
@@ -12,6 +12,7 @@ from .errors import (
     NotFittedError,
     RegistryError,
 )
+from .generation import generate_dataset
 from .hookspecs import hookimpl
 from .interfaces import (
     GroundMotionSource,

@@ -1,19 +1,16 @@
-"""Datasets: generate ``(a_g, u, z)`` with the true nonlinear model, write and read HDF5.
+"""Datasets of ``(a_g, u, z)`` in HDF5: what identifies one, and reading it back.
 
 File layout: ``ag [N, T]`` (m/s^2), ``u [N, T, n_out]`` (m), ``z/<preprocessor>
-[N, T, n_out]`` (m), ``extras/<channel> [N, T, k]`` (float32, for figures),
-``chunk_done [n_chunks]``; attributes ``dt``, ``config`` (JSON), ``config_hash``, ``seed``,
-``versions``, ``output_names``, ``n_train``, ``n_val``, ``n_test`` and ``complete``, which
-is set only once every chunk is written. Generation resumes: chunks already written are
-not simulated again.
+[N, T, n_out]`` (m), ``extras/<channel> [N, T, k]`` (float32, for figures); attributes
+``dt``, ``config`` (JSON), ``config_hash``, ``seed``, ``versions``, ``output_names``,
+``n_train``, ``n_val``, ``n_test``, ``failures`` (JSON: record index -> cause) and
+``complete``. :mod:`cphysfno_core.generation` writes it.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import sys
-import time
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -24,10 +21,7 @@ import numpy as np
 
 from .config import ExperimentConfig
 from .errors import DatasetError
-from .executors import run_tasks
-from .registry import get_registry
 from .signals import GroundMotions
-from .simulation import ChunkResult, simulate_chunk
 
 SPLITS = ("train", "val", "test")
 
@@ -81,7 +75,7 @@ class Dataset:
         return self.z[preprocessor][self.rows(split)]
 
 
-def _versions() -> dict[str, str]:
+def versions() -> dict[str, str]:
     out = {}
     for dist in ("cphysfno-core", "numpy", "scipy", "torch", "h5py"):
         try:
@@ -104,141 +98,44 @@ def dataset_identity(config: ExperimentConfig) -> dict[str, Any]:
     }
 
 
-def _hash(identity: dict[str, Any]) -> str:
-    return hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:16]
+def dataset_hash(config: ExperimentConfig) -> str:
+    """A short fingerprint of :func:`dataset_identity`."""
+    text = json.dumps(dataset_identity(config), sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _check_existing(path: Path, identity_hash: str) -> bool:
-    """True if ``path`` is a complete dataset of this config; raise if it is another's."""
+def parts_folder(path: Path) -> Path:
+    """Where the unfinished chunks of the dataset ``path`` are kept while it is generated."""
+    return path.with_name(path.name + ".parts")
+
+
+def check_dataset_identity(path: Path, identity: str) -> bool:
+    """True if ``path`` is a complete dataset of this identity (False if there is none
+    yet); raise DatasetError if it belongs to another configuration or is unreadable."""
     if not path.exists():
         return False
     try:
         with h5py.File(path, "r") as f:
             found = f.attrs.get("config_hash")
-            complete = bool(f.attrs.get("complete", False))
     except OSError as error:
         raise DatasetError(f"{path} exists but is not a readable HDF5 dataset: {error}") from None
-    if found != identity_hash:
+    if found != identity:
         raise DatasetError(
             f"{path} holds a dataset of another configuration: remove it or choose another "
             "output folder"
         )
-    return complete
-
-
-def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool = True) -> Path:
-    """Simulate ``config.data.n_records`` records and write them to ``path`` (HDF5).
-
-    Records are sampled once from ``config.data.seed`` (seeds belong to records, not to
-    workers), simulated in chunks of ``config.data.chunk_size`` by the configured
-    executor, and written chunk by chunk. Started again on an unfinished file of the same
-    configuration, it simulates only the chunks that are missing.
-    """
-    path = Path(path)
-    identity = dataset_identity(config)
-    identity_hash = _hash(identity)
-    if _check_existing(path, identity_hash):
-        if progress:
-            print(f"dataset {path} is complete: nothing to simulate", file=sys.stderr)
-        return path
-    registry = get_registry()
-    spec = config.structure
-    structure = registry.create("structure", spec.name, **spec.params)
-    for pp in config.preprocessor:  # fail on a missing capability before any simulation
-        registry.create("preprocessor", pp.name, **pp.params).fit(structure)
-    source = registry.create(
-        "ground_motion", config.ground_motion.name, **config.ground_motion.params
-    )
-    n = config.data.n_records
-    motions = source.sample(n, np.random.default_rng(config.data.seed))
-    if motions.n_records < n:
-        raise DatasetError(
-            f"ground motion '{source.name}' gave {motions.n_records} records but the data "
-            f"section asks for {n} (n_train + n_val + n_test): lower the split sizes"
-        )
-    shape = (n, motions.n_steps, structure.n_outputs)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with h5py.File(path, "a") as f:
-        if "ag" not in f:
-            f.attrs["complete"] = False
-            f.attrs["chunk_size"] = config.data.chunk_size
-            f.attrs["config_hash"] = identity_hash
-            f.attrs["config"] = json.dumps(config.to_dict())
-            f.attrs["seed"] = config.data.seed
-            f.attrs["dt"] = motions.dt
-            f.attrs["versions"] = json.dumps(_versions())
-            f.attrs["output_names"] = json.dumps(list(structure.output_names))
-            for split in SPLITS:
-                f.attrs[f"n_{split}"] = getattr(config.data, f"n_{split}")
-            f.create_dataset("ag", data=motions.acceleration)
-            f.create_dataset("u", shape=shape, dtype="f8")
-            for pp in config.preprocessor:
-                f.create_dataset(f"z/{pp.name}", shape=shape, dtype="f8")
-        chunk = int(f.attrs["chunk_size"])  # a resumed run keeps the chunks it started with
-        bounds = [(s, min(s + chunk, n)) for s in range(0, n, chunk)]
-        if "chunk_done" not in f:
-            f.create_dataset("chunk_done", data=np.zeros(len(bounds), dtype=bool))
-        done = f["chunk_done"][...]
-        todo = [i for i in range(len(bounds)) if not done[i]]
-        _run_chunks(config, structure, motions, bounds, todo, f, progress)
-        f.attrs["complete"] = True
-    return path
-
-
-def _run_chunks(config, structure, motions, bounds, todo, f, progress) -> None:
-    structure_spec = {"name": structure.name, **structure.get_params()}
-    pp_specs = [p.to_dict() for p in config.preprocessor]
-    started = time.perf_counter()
-    finished = 0
-
-    def store(i: int, result: ChunkResult) -> None:
-        nonlocal finished
-        start, stop = bounds[i]
-        failures = {start + k: cause for k, cause in result.failures.items()}
-        if failures and config.data.on_failure == "raise":
-            index, cause = next(iter(failures.items()))
-            raise DatasetError(
-                f"record {index} failed: {cause} (set data.on_failure = 'skip' to list failed "
-                "records in the dataset and go on)"
-            )
-        if failures:
-            recorded = json.loads(f.attrs.get("failures", "{}"))
-            recorded.update({str(k): v for k, v in failures.items()})
-            f.attrs["failures"] = json.dumps(recorded)
-            if progress:
-                for index, cause in failures.items():
-                    print(f"  record {index} skipped: {cause}", file=sys.stderr, flush=True)
-        f["u"][start:stop] = result.u
-        for name, values in result.z.items():
-            f[f"z/{name}"][start:stop] = values
-        for name, values in result.extras.items():
-            key = f"extras/{name}"
-            if key not in f:
-                f.create_dataset(key, shape=(f["u"].shape[0], *values.shape[1:]), dtype="f4")
-            f[key][start:stop] = values
-        f["chunk_done"][i] = True
-        f.flush()
-        finished += stop - start
-        if progress:
-            rate = finished / max(time.perf_counter() - started, 1e-9)
-            total = sum(bounds[j][1] - bounds[j][0] for j in todo)
-            print(
-                f"  simulated {finished}/{total} records ({rate:.0f} records/s)",
-                file=sys.stderr,
-                flush=True,
-            )
-
-    def args(i: int):
-        start, stop = bounds[i]
-        return structure_spec, pp_specs, motions.acceleration[start:stop], motions.dt
-
-    run_tasks(simulate_chunk, [(i, args(i)) for i in todo], config.data, store)
+    return True
 
 
 def load_dataset(path: str | Path) -> Dataset:
     """Read a complete dataset; an unfinished or foreign file raises DatasetError."""
     path = Path(path)
     if not path.exists():
+        if parts_folder(path).exists():
+            raise DatasetError(
+                f"{path} is incomplete (generation was interrupted): run the same "
+                "`cphysfno generate` command again to finish it"
+            )
         raise DatasetError(f"no dataset at {path}: run `cphysfno generate` first")
     try:
         with h5py.File(path, "r") as f:

@@ -19,8 +19,9 @@ import torch
 from . import metrics
 from .composite import CompositeModel, model_label
 from .config import ExperimentConfig
-from .data import Dataset, generate_dataset, load_dataset
+from .data import Dataset, load_dataset
 from .errors import DatasetError
+from .generation import generate_dataset
 from .registry import get_registry
 
 DATASET = "dataset.h5"
