@@ -189,7 +189,8 @@ class CompositeModel:
             validation: ``(motions, u)`` of the validation split, which picks the epoch.
             epochs: overrides ``training.epochs``; further keywords override other
                 :class:`TrainingConfig` fields (``batch_size``, ``learning_rate``, ...).
-            z, validation_z: precomputed physics responses (skip the preprocessor).
+            z: precomputed physics response of ``motions`` (skips the preprocessor).
+            validation_z: precomputed physics response of the validation motions.
             progress: per-epoch callback (None for silence).
         """
         val_motions, val_u = validation
