@@ -63,12 +63,12 @@ def _stage(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     if args.command == "run":
-        evaluation = pipeline.run(config, out)
+        evaluation = pipeline.run(config, out, resume=args.resume)
     elif args.command == "generate":
         pipeline.generate(config, out)
         evaluation = None
     elif args.command == "train":
-        pipeline.train(config, out)
+        pipeline.train(config, out, resume=args.resume)
         evaluation = None
     else:
         evaluation = pipeline.evaluate(config, out)
@@ -101,6 +101,12 @@ def build_parser() -> argparse.ArgumentParser:
         stage = commands.add_parser(name, help=text, description=text)
         stage.add_argument("config", help="experiment TOML file")
         stage.add_argument("--out", required=True, help="output folder")
+        if name in ("run", "train"):
+            stage.add_argument(
+                "--resume",
+                action="store_true",
+                help="keep trained models and continue an interrupted one from its checkpoint",
+            )
         stage.set_defaults(func=_stage)
     return parser
 
@@ -113,7 +119,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("interrupted: run the same command again to resume", file=sys.stderr)
+        print(
+            "interrupted: run the same command again to resume (add --resume to run or "
+            "train to continue training from the last epoch)",
+            file=sys.stderr,
+        )
         return 130
 
 

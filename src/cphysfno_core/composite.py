@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import json
+import pickle
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -179,6 +180,8 @@ class CompositeModel:
         z: np.ndarray | None = None,
         validation_z: np.ndarray | None = None,
         progress: Callable[[EpochReport], None] | None = print_progress,
+        checkpoint: str | Path | None = None,
+        resume: bool = False,
         **training: Any,
     ) -> CompositeModel:
         """Train the operator (and the refiner, if any) on ``motions -> u``.
@@ -192,6 +195,8 @@ class CompositeModel:
             z: precomputed physics response of ``motions`` (skips the preprocessor).
             validation_z: precomputed physics response of the validation motions.
             progress: per-epoch callback (None for silence).
+            checkpoint: file to write after every epoch (see :func:`train_operator`).
+            resume: continue from ``checkpoint`` where an interrupted fit stopped.
         """
         val_motions, val_u = validation
         u = self._check_targets(motions, u, "u")
@@ -219,6 +224,8 @@ class CompositeModel:
             self.output_normalizer_,
             self.training,
             progress,
+            checkpoint=checkpoint,
+            resume=resume,
         )
         val_hat = self._run_operator(x_val)
         self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_u) ** 2, axis=(0, 1)))
@@ -369,8 +376,12 @@ class CompositeModel:
                 arrays = {key: stored[key] for key in stored.files}
             normalizers = [arrays[key] for key in SAVED_ARRAYS]
         except Exception as error:
+            reason = str(error).splitlines()[0] if str(error) else ""
+            if isinstance(error, pickle.UnpicklingError):
+                reason = "not plain tensors: refused without running it"
             raise DatasetError(
-                f"{directory}: cannot load the model's weights ({type(error).__name__}: {error})"
+                f"{directory}: cannot load the model's weights ({type(error).__name__}: "
+                f"{reason})"
             ) from None
         model = cls(
             operator,

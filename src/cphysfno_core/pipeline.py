@@ -55,8 +55,12 @@ def _set_threads(config: ExperimentConfig) -> None:
         torch.set_num_threads(config.training.threads)
 
 
-def train(config: ExperimentConfig, out: str | Path) -> dict[str, Path]:
-    """Stage 2: train the baseline and one C-PhysFNO per preprocessor; save each model."""
+def train(config: ExperimentConfig, out: str | Path, resume: bool = False) -> dict[str, Path]:
+    """Stage 2: train the baseline and one C-PhysFNO per preprocessor; save each model.
+
+    Every epoch writes ``models/<label>.checkpoint.pt``; with ``resume``, models already
+    saved are kept and an interrupted one continues from its checkpoint.
+    """
     out = Path(out)
     data = load_dataset(out / DATASET)
     _set_threads(config)
@@ -76,15 +80,31 @@ def train(config: ExperimentConfig, out: str | Path) -> dict[str, Path]:
             else registry.create("preprocessor", pp.name, **pp.params),
             training=config.training,
         )
-        _say(
-            f"training {model.label} ({config.training.epochs} epochs, "
-            f"{data.sizes['train']} records)"
-        )
         z_train = z_val = None
         if pp is not None:
             z_train, z_val = data.physics(pp.name, "train"), data.physics(pp.name, "val")
-        model.fit(train_gm, train_u, validation=(val_gm, val_u), z=z_train, validation_z=z_val)
-        saved[model.label] = _replace_dir(model, out / MODELS / model.label)
+        directory = out / MODELS / model.label
+        checkpoint = out / MODELS / f"{model.label}.checkpoint.pt"
+        if resume and (directory / "model.json").exists() and not checkpoint.exists():
+            _say(f"{model.label} is trained already")
+            model = CompositeModel.load(directory)
+        else:
+            _say(
+                f"training {model.label} ({config.training.epochs} epochs, "
+                f"{data.sizes['train']} records)"
+            )
+            model.fit(
+                train_gm,
+                train_u,
+                validation=(val_gm, val_u),
+                z=z_train,
+                validation_z=z_val,
+                checkpoint=checkpoint,
+                resume=resume,
+            )
+            _replace_dir(model, directory)
+            checkpoint.unlink()
+        saved[model.label] = directory
         if pp is not None and config.refiner is not None:
             refined = model.refine(
                 (config.refiner.name, config.refiner.params), train_gm, train_u, z=z_train
@@ -152,15 +172,15 @@ def evaluate(config: ExperimentConfig, out: str | Path) -> Evaluation:
     return Evaluation(data, predictions, results)
 
 
-def run(config: ExperimentConfig, out: str | Path) -> Evaluation:
-    """All stages: generate, train, evaluate, report."""
+def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Evaluation:
+    """All stages: generate, train, evaluate, report (``resume``: see :func:`train`)."""
     from .report import write_report
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
     generate(config, out)
-    train(config, out)
+    train(config, out, resume=resume)
     evaluation = evaluate(config, out)
     write_report(config, evaluation, out)
     return evaluation

@@ -6,16 +6,18 @@ Arrays are ``[n_records, n_steps, channels]``; the learner works in float32.
 from __future__ import annotations
 
 import copy
+import os
 import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import torch
 
 from .config import TrainingConfig
-from .errors import InputError
+from .errors import DatasetError, InputError
 
 
 @dataclass
@@ -99,6 +101,26 @@ def print_progress(report: EpochReport) -> None:
     )
 
 
+def save_checkpoint(path: str | Path, state: dict) -> None:
+    """Write a training checkpoint to a temporary name and rename it into place."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(f".{path.name}.tmp")
+    torch.save(state, temporary)
+    os.replace(temporary, path)
+
+
+def load_checkpoint(path: str | Path) -> dict:
+    """Read a checkpoint written by :func:`save_checkpoint` (tensors and plain data only)."""
+    try:
+        return torch.load(path, weights_only=True, map_location="cpu")
+    except Exception as error:
+        raise DatasetError(
+            f"cannot resume from {path}: not a readable checkpoint ({type(error).__name__}); "
+            "remove it to train from the start"
+        ) from None
+
+
 def _evaluate(
     operator: torch.nn.Module, x: torch.Tensor, y: torch.Tensor, decode, batch_size: int
 ) -> float:
@@ -123,6 +145,8 @@ def train_operator(
     output_normalizer: Normalizer,
     settings: TrainingConfig,
     progress: Callable[[EpochReport], None] | None = print_progress,
+    checkpoint: str | Path | None = None,
+    resume: bool = False,
 ) -> TrainingHistory:
     """Train ``operator`` in place and keep the weights of the best validation epoch.
 
@@ -134,6 +158,10 @@ def train_operator(
         output_normalizer: decodes the operator output to physical units.
         settings: epochs, batch size, Adam learning rate, step decay, seed.
         progress: called after every epoch (None for silence).
+        checkpoint: file written (atomically) after every epoch with everything needed
+            to continue: weights, optimiser, schedule, random states, best epoch so far.
+        resume: continue from ``checkpoint`` if it exists; on CPU the result equals that
+            of an uninterrupted run with the same seed.
     """
     if x_train.shape[0] != y_train.shape[0] or x_val.shape[0] != y_val.shape[0]:
         raise InputError("inputs and targets must hold the same number of records")
@@ -154,8 +182,19 @@ def train_operator(
     history = TrainingHistory()
     best_state = copy.deepcopy(operator.state_dict())
     best_val = float("inf")
+    first_epoch = 1
+    if checkpoint is not None and resume and Path(checkpoint).exists():
+        state = load_checkpoint(checkpoint)
+        operator.load_state_dict(state["operator"])
+        optimiser.load_state_dict(state["optimiser"])
+        schedule.load_state_dict(state["schedule"])
+        generator.set_state(state["generator"])
+        torch.set_rng_state(state["torch_rng"])
+        best_state, best_val = state["best_state"], state["best_val"]
+        history = TrainingHistory(**state["history"])
+        first_epoch = state["epoch"] + 1
     started = time.perf_counter()
-    for epoch in range(1, settings.epochs + 1):
+    for epoch in range(first_epoch, settings.epochs + 1):
         tic = time.perf_counter()
         operator.train()
         order = torch.randperm(xt.shape[0], generator=generator)
@@ -194,6 +233,21 @@ def train_operator(
                     time.perf_counter() - tic,
                     improved,
                 )
+            )
+        if checkpoint is not None:
+            save_checkpoint(
+                checkpoint,
+                {
+                    "epoch": epoch,
+                    "operator": operator.state_dict(),
+                    "optimiser": optimiser.state_dict(),
+                    "schedule": schedule.state_dict(),
+                    "generator": generator.get_state(),
+                    "torch_rng": torch.get_rng_state(),
+                    "best_state": best_state,
+                    "best_val": best_val,
+                    "history": history.to_dict(),
+                },
             )
     operator.load_state_dict(best_state)
     operator.eval()
