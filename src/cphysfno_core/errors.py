@@ -33,3 +33,8 @@ class NotFittedError(CphysfnoError, RuntimeError):
 
 class PluginError(CphysfnoError, RuntimeError):
     """A plugin broke its contract (for example returned an array of the wrong shape)."""
+
+
+class CphysfnoWarning(UserWarning):
+    """Something was done only in part (fewer records, a looser match): the message says
+    what and why."""

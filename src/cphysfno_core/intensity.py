@@ -56,15 +56,13 @@ def _phi_functions(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     by their Taylor series where ``|x|`` is small and cancellation would cost digits."""
     small = np.abs(x) < 0.1
     safe = np.where(small, 1.0, x)
-    phi1 = np.where(small, 0.0, np.expm1(safe) / safe)
-    phi2 = np.where(small, 0.0, (np.expm1(safe) - safe) / safe**2)
-    term = np.ones_like(x)
+    series1, series2, term = np.ones_like(x), np.full_like(x, 0.5), np.ones_like(x)
     for k in range(1, 14):
         term = term * x / k
-        phi1 = phi1 + np.where(small, term / (k + 1), 0.0)
-        phi2 = phi2 + np.where(small, term / ((k + 1) * (k + 2)), 0.0)
-    phi1 = phi1 + np.where(small, 1.0, 0.0)
-    phi2 = phi2 + np.where(small, 0.5, 0.0)
+        series1 = series1 + term / (k + 1)
+        series2 = series2 + term / ((k + 1) * (k + 2))
+    phi1 = np.where(small, series1, np.expm1(safe) / safe)
+    phi2 = np.where(small, series2, (np.expm1(safe) - safe) / safe**2)
     return phi1, phi2
 
 

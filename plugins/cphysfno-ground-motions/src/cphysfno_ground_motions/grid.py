@@ -1,0 +1,160 @@
+"""Putting records of various time steps and lengths on one time grid.
+
+Resampling is polyphase (``scipy.signal.resample_poly``): the rate is changed by a
+rational factor through a Kaiser-windowed FIR low-pass at the lower of the two Nyquist
+frequencies, so content above the new Nyquist frequency is removed, not folded back.
+"""
+
+from __future__ import annotations
+
+import warnings
+from fractions import Fraction
+
+import numpy as np
+import scipy.signal
+from cphysfno_core import DatasetError, GroundMotions, InputError
+
+from .errors import GroundMotionWarning
+from .record import Record, describe
+
+RELATIVE_DT_TOLERANCE = 1e-6
+"""Two time steps closer than this, relatively, are the same."""
+
+
+def same_step(a: float, b: float) -> bool:
+    """Whether the time steps ``a`` and ``b`` (s) are equal within the tolerance."""
+    return abs(a - b) <= RELATIVE_DT_TOLERANCE * max(a, b)
+
+
+def resample(acceleration: np.ndarray, dt: float, new_dt: float) -> np.ndarray:
+    """Accelerations on the grid ``0, new_dt, ...`` with anti-aliasing.
+
+    Args:
+        acceleration: ``[..., T]`` samples every ``dt`` s (time along the last axis).
+        dt: original time step in s.
+        new_dt: new time step in s; ``dt / new_dt`` must be a ratio of integers up to 1000.
+
+    Returns:
+        ``[..., floor((T - 1) dt / new_dt) + 1]`` samples every ``new_dt`` s from t = 0,
+        covering the original record.
+    """
+    if same_step(dt, new_dt):
+        return np.array(acceleration, dtype=np.float64)
+    ratio = Fraction(dt / new_dt).limit_denominator(1000)
+    if abs(ratio.numerator / ratio.denominator * new_dt - dt) > 1e-9 * dt:
+        raise InputError(
+            f"cannot resample from dt = {dt:g} s to {new_dt:g} s: their ratio is not a "
+            "fraction of integers up to 1000; choose a dt that divides evenly"
+        )
+    out = scipy.signal.resample_poly(acceleration, ratio.numerator, ratio.denominator, axis=-1)
+    steps = int(np.floor((acceleration.shape[-1] - 1) * dt / new_dt + 1e-9)) + 1
+    return out[..., :steps]
+
+
+def fit_length(acceleration: np.ndarray, steps: int) -> np.ndarray:
+    """``[steps]``: the record cut after ``steps`` samples, or zero-padded up to them."""
+    out = np.zeros(steps)
+    keep = min(steps, acceleration.size)
+    out[:keep] = acceleration[:keep]
+    return out
+
+
+def _common_step(
+    records: list[Record], dt: float | None, resample_all: bool, where: str
+) -> tuple[float, list[Record]]:
+    """The grid step and the records that can be brought to it (warning about others)."""
+    steps = sorted({r.dt for r in records})
+    if dt is None:
+        if not resample_all and any(not same_step(s, steps[0]) for s in steps):
+            groups = {
+                f"{s:g} s": describe([r.name for r in records if same_step(r.dt, s)], 3)
+                for s in steps
+            }
+            raise DatasetError(
+                f"{where} mixes time steps ({'; '.join(f'{k}: {v}' for k, v in groups.items())}) "
+                "and resampling is off: set dt to resample them all or to keep one time step"
+            )
+        return steps[0], records
+    if resample_all:
+        return dt, records
+    kept = [r for r in records if same_step(r.dt, dt)]
+    dropped = [r for r in records if not same_step(r.dt, dt)]
+    if not kept:
+        raise DatasetError(
+            f"no record of {where} has dt = {dt:g} s (they have "
+            f"{', '.join(f'{s:g}' for s in steps)} s): allow resampling or choose one of those"
+        )
+    if dropped:
+        warnings.warn(
+            f"{where}: {len(dropped)} records left out because their dt is not {dt:g} s and "
+            f"resampling is off: {describe([r.name for r in dropped])}",
+            GroundMotionWarning,
+            stacklevel=2,
+        )
+    return dt, kept
+
+
+def common_grid(
+    records: list[Record],
+    *,
+    dt: float | None,
+    resample_all: bool,
+    duration: float | None,
+    pad_short: bool,
+    where: str,
+) -> GroundMotions:
+    """The records on one grid: time step ``dt`` and ``round(duration / dt) + 1`` samples.
+
+    Args:
+        records: the records, each at its own time step.
+        dt: grid step in s; ``None`` takes the finest step among the records.
+        resample_all: bring records of another step to ``dt`` by anti-aliased resampling;
+            otherwise leave them out (with a warning), or, with ``dt=None``, refuse a mix.
+        duration: grid length in s; longer records are cut, shorter ones zero-padded;
+            ``None`` takes the longest record.
+        pad_short: zero-pad records shorter than ``duration`` (with a warning naming them);
+            otherwise leave them out (with a warning).
+        where: how messages call the record set.
+
+    Returns:
+        ``[m, T]`` accelerations in m/s^2 with each record's metadata plus ``native_dt``
+        and ``native_duration`` (s).
+
+    Raises:
+        DatasetError: mixed steps with resampling off and no ``dt``, no record at ``dt``,
+            or no record long enough when padding is off.
+    """
+    step, records = _common_step(records, dt, resample_all, where)
+    resampled = [resample(r.acceleration, r.dt, step) for r in records]
+    lengths = np.array([(a.size - 1) * step for a in resampled])
+    if duration is None:
+        n_steps = int(lengths.max() / step + 0.5) + 1
+    else:
+        n_steps = int(round(duration / step)) + 1
+        short = lengths < (n_steps - 1) * step - 0.5 * step
+        if short.any():
+            names = describe(
+                [
+                    f"{r.name} ({length:.2f} s)"
+                    for r, length, s in zip(records, lengths, short, strict=True)
+                    if s
+                ]
+            )
+            if not pad_short and short.all():
+                raise DatasetError(
+                    f"no record of {where} lasts {duration:g} s (the longest lasts "
+                    f"{lengths.max():.2f} s): shorten duration or allow padding"
+                )
+            action = "zero-padded to" if pad_short else "left out as shorter than"
+            warnings.warn(
+                f"{where}: {int(short.sum())} records {action} {duration:g} s: {names}",
+                GroundMotionWarning,
+                stacklevel=2,
+            )
+            if not pad_short:
+                keep = ~short
+                records = [r for r, k in zip(records, keep, strict=True) if k]
+                resampled = [a for a, k in zip(resampled, keep, strict=True) if k]
+    acceleration = np.stack([fit_length(a, n_steps) for a in resampled])
+    metadata = [{**r.metadata, "native_dt": r.dt, "native_duration": r.duration} for r in records]
+    return GroundMotions(acceleration, step, metadata)

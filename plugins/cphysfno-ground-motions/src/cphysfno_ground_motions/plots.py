@@ -1,0 +1,106 @@
+"""Figures of ground motions: response spectra against a target (paper Fig. 10(b)) and
+acceleration histories. Drawn with matplotlib's Agg backend into PNG files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from cphysfno_core import GroundMotions
+from cphysfno_core.intensity import STANDARD_GRAVITY, response_spectrum
+from matplotlib.ticker import FormatStrFormatter, NullFormatter
+
+from .target import TargetSpectrum
+
+
+def _figure(width: float, height: float):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height), dpi=120)
+
+
+def plot_spectra(
+    motions: GroundMotions,
+    path: str | Path,
+    *,
+    periods: np.ndarray | None = None,
+    target: TargetSpectrum | None = None,
+    damping: float = 0.05,
+    title: str = "",
+) -> Path:
+    """Every record's pseudo-spectral acceleration (in g, log-log) with, if given, the
+    target's median and 2.5-97.5% band; written as a PNG to ``path``.
+
+    Args:
+        motions: the records.
+        path: PNG file to write (its folder is created).
+        periods: ``[P]`` periods in s of the records' spectra; default 60 spread
+            log-uniformly over the target's periods, else from 0.02 s to 5 s.
+        target: the target spectrum to draw over the records.
+        damping: damping ratio of the spectra.
+        title: figure title.
+
+    Returns:
+        The path written.
+    """
+    if periods is None:
+        low, high = (target.periods[0], target.periods[-1]) if target is not None else (0.02, 5)
+        periods = np.geomspace(low, high, 60)
+    periods = np.asarray(periods, dtype=np.float64)
+    psa = response_spectrum(motions.acceleration, motions.dt, periods, damping)
+    figure = _figure(6.0, 4.5)
+    axes = figure.subplots()
+    g = STANDARD_GRAVITY
+    for row in psa.pseudo_acceleration:
+        axes.loglog(periods, row / g, color="0.65", linewidth=0.5, alpha=0.6)
+    axes.plot([], [], color="0.65", linewidth=0.8, label=f"{motions.n_records} records")
+    if target is not None:
+        axes.loglog(target.periods, target.median / g, color="k", linewidth=2, label="median")
+        for probability, label in ((0.025, "2.5% and 97.5%"), (0.975, None)):
+            axes.loglog(
+                target.periods,
+                target.quantile(probability) / g,
+                color="k",
+                linestyle="--",
+                linewidth=1.5,
+                label=label,
+            )
+    axes.set_xlabel("period T (s)")
+    axes.set_ylabel(f"Sa (g), {damping:.0%} damping")
+    axes.set_xlim(periods.min(), periods.max())
+    axes.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+    axes.xaxis.set_minor_formatter(NullFormatter())
+    axes.grid(True, which="both", linewidth=0.3)
+    axes.legend(loc="lower left")
+    if title:
+        axes.set_title(title, fontsize=10)
+    figure.tight_layout()
+    return _save(figure, path)
+
+
+def plot_records(
+    motions: GroundMotions, path: str | Path, *, count: int = 4, title: str = ""
+) -> Path:
+    """Acceleration histories (in g) of the first ``count`` records, one panel each, each
+    titled from its metadata; written as a PNG to ``path``."""
+    count = max(1, min(count, motions.n_records))
+    figure = _figure(7.0, 1.6 * count + 0.6)
+    axes = np.atleast_1d(figure.subplots(count, 1, sharex=True))
+    for i, ax in enumerate(axes):
+        meta = motions.metadata[i] if motions.metadata else {}
+        ax.plot(motions.time, motions.acceleration[i] / STANDARD_GRAVITY, linewidth=0.6)
+        ax.set_ylabel("a (g)")
+        label = meta.get("name") or f"{meta.get('source', 'record')} {i}"
+        ax.set_title(str(label), fontsize=8, loc="left")
+    axes[-1].set_xlabel("time (s)")
+    if title:
+        figure.suptitle(title)
+    figure.tight_layout()
+    return _save(figure, path)
+
+
+def _save(figure, path: str | Path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path)
+    return path
