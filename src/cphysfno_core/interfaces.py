@@ -89,7 +89,8 @@ class RestoringForce(Protocol):
 class Structure(Component, ABC):
     """The high-fidelity nonlinear model that makes the training data.
 
-    Capabilities beyond :meth:`simulate` and :meth:`periods` are optional; a structure
+    Capabilities beyond :meth:`simulate` and :meth:`periods` are optional (``linear_system``,
+    ``restoring_force``, ``coarse_simulation``, ``projected_simulation``); a structure
     that lacks one raises :class:`CapabilityError` from it, and :meth:`capabilities`
     lists those it has.
     """
@@ -133,12 +134,38 @@ class Structure(Component, ABC):
         """Whether :meth:`simulate` accepts a coarser ``dt`` than the motion's."""
         return False
 
+    def simulate_projected(
+        self, motions: GroundMotions, basis: np.ndarray, *, substeps: int | None = None
+    ) -> Responses:
+        """Nonlinear response of the model Galerkin-projected onto ``basis`` (capability
+        ``"projected_simulation"``), for modal reduction.
+
+        With DOF displacements ``u = basis q`` and the equations of motion
+        ``M u'' + C u' + f(u, s) = -M r a_g`` multiplied by ``basis^T`` (the internal state
+        ``s`` kept whole), the reduced model is integrated on the motion's own grid from
+        rest, with the ground acceleration linear between samples.
+
+        Args:
+            motions: ``[n, T]`` ground accelerations in m/s^2.
+            basis: ``[n_dof, r]`` displacement shapes with linearly independent columns,
+                in the DOFs of :meth:`linear_system`.
+            substeps: integration steps per sample interval; ``None`` lets the structure
+                choose.
+
+        Returns:
+            The outputs of ``u`` (``[n, T, n_outputs]``, m), as :meth:`simulate` returns
+            them; an invertible basis gives the full model.
+        """
+        raise self.missing("projected_simulation")
+
     def capabilities(self) -> frozenset[str]:
         """The optional capabilities this structure provides."""
         found = set()
         for capability in ("linear_system", "restoring_force"):
             if getattr(type(self), capability) is not getattr(Structure, capability):
                 found.add(capability)
+        if type(self).simulate_projected is not Structure.simulate_projected:
+            found.add("projected_simulation")
         if self.supports_coarse_simulation():
             found.add("coarse_simulation")
         return frozenset(found)

@@ -66,6 +66,30 @@ def bouc_wen_rhs(t, y, a_start, a_slope, t_start, damping):
     return np.concatenate([w, acceleration, h_rate])
 
 
+def projected_rhs(basis: np.ndarray, damping: np.ndarray) -> Callable:
+    """Right-hand side of the paper's equations Galerkin-projected on ``basis`` ``[5, r]``
+    (mass-normalised), for one record, state ``[q, q', h]``."""
+    r = basis.shape[1]
+    participation = basis.T @ (MASS * np.ones(len(STIFFNESS)))
+
+    def rhs(t, y, a_start, a_slope, t_start):
+        q, q_rate, h = y[:r], y[r : 2 * r], y[2 * r :]
+        u, velocity = basis @ q, basis @ q_rate
+        shear = STIFFNESS * (ALPHA * (COMPATIBILITY @ u) + (1.0 - ALPHA) * h)
+        ground = a_start + a_slope * (t - t_start)
+        q_accel = -basis.T @ (COMPATIBILITY.T @ shear + damping @ velocity) - ground * participation
+        drift_rate = COMPATIBILITY @ velocity
+        power = np.abs(h) ** (EXPONENT - 1.0)
+        h_rate = (
+            -SHAPE * np.abs(drift_rate) * power * h
+            - SHAPE * drift_rate * power * np.abs(h)
+            + AMPLITUDE * drift_rate
+        )
+        return np.concatenate([q_rate, q_accel, h_rate])
+
+    return rhs
+
+
 def solve_piecewise(
     rhs: Callable,
     y0: np.ndarray,
@@ -115,6 +139,11 @@ def matrices() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 @pytest.fixture(scope="session")
 def reference_rhs() -> Callable:
     return bouc_wen_rhs
+
+
+@pytest.fixture(scope="session")
+def projected_reference_rhs() -> Callable:
+    return projected_rhs
 
 
 @pytest.fixture(scope="session")

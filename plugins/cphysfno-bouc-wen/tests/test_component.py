@@ -16,7 +16,12 @@ def test_registry_builds_it_by_name() -> None:
     assert building.params.damping_ratio == 0.02
     entry = cphysfno_core.get_registry().entry("structure", "bouc-wen-shear-building")
     assert entry.distribution.startswith("cphysfno-bouc-wen")
-    assert building.capabilities() == {"linear_system", "restoring_force", "coarse_simulation"}
+    assert building.capabilities() == {
+        "linear_system",
+        "restoring_force",
+        "coarse_simulation",
+        "projected_simulation",
+    }
 
 
 def test_defaults_follow_the_design() -> None:
@@ -63,6 +68,7 @@ def test_extras_are_drifts_and_shears(white_noise) -> None:
         ({"zeta": -1.0}, "zeta"),
         ({"damping_ratio": 1.0}, "damping_ratio"),
         ({"substeps": 0}, "substeps"),
+        ({"precision": "float16"}, "precision"),
         ({"mass": 3e4}, "mass"),
     ],
 )

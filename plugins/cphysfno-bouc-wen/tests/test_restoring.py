@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from cphysfno_core import GroundMotions, RestoringForce
 
 from cphysfno_bouc_wen import BoucWenShearBuilding
@@ -23,8 +24,11 @@ def test_protocol_and_elastic_consistency(matrices) -> None:
     np.testing.assert_allclose(rate, np.diff(velocity, axis=1, prepend=0.0), rtol=1e-12)
 
 
-def test_restoring_force_reproduces_simulate(white_noise, piecewise_solver, rel_l2) -> None:
-    building = BoucWenShearBuilding()
+@pytest.mark.parametrize("exponent", [3.0, 2.5], ids=["whole-exponent", "pow"])
+def test_restoring_force_reproduces_simulate(
+    white_noise, piecewise_solver, rel_l2, exponent
+) -> None:
+    building = BoucWenShearBuilding(exponent=exponent)
     force: RestoringForce = building.restoring_force()
     system = building.linear_system()
     inverse_mass = np.linalg.inv(system.mass)

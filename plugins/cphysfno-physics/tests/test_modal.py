@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cphysfno_core import ConfigError, create
+from cphysfno_core import ConfigError, Structure, create
 
 
 def test_all_modes_reproduce_the_full_model(toy, toy_motions, toy_truth, relative_l2):
@@ -57,3 +57,23 @@ def test_two_modes_on_the_building(building, paper_motions, paper_truth, relativ
     error = relative_l2(z, paper_truth)
     print(f"modal r=2 relative L2 to truth per story: {np.round(error, 3)}")
     assert np.all(np.isfinite(z)) and np.all(error > 1e-3)
+
+
+def test_the_structures_projected_simulation_is_the_generic_path(
+    building, paper_motions, relative_l2
+):
+    """The Bouc-Wen building integrates the reduced model itself (compiled, float32);
+    without that capability the preprocessor integrates it from the restoring force."""
+    generic_type = type(
+        "WithoutProjectedSimulation",
+        (type(building),),
+        {"simulate_projected": Structure.simulate_projected},
+    )
+    generic = generic_type(**building.get_params())
+    assert "projected_simulation" in building.capabilities()
+    assert "projected_simulation" not in generic.capabilities()
+    motions = paper_motions[:3]
+    fast = create("preprocessor", "modal").fit(building).transform(motions)
+    reference = create("preprocessor", "modal").fit(generic).transform(motions)
+    assert fast.shape == reference.shape and fast.dtype == np.float64
+    assert np.all(relative_l2(fast, reference) <= 1e-5)

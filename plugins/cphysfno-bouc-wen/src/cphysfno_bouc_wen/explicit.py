@@ -1,40 +1,234 @@
-"""Classical fourth-order Runge-Kutta integration on the motion's own time grid."""
+"""Classical fourth-order Runge-Kutta integration of a reduced model on the motion's grid.
+
+The compiled kernel holds :data:`LANES` records side by side, records in the innermost
+(SIMD) position: a Runge-Kutta stage is one loop over those records whose body evaluates
+the whole reduced model of one record with its state in registers, which LLVM turns into
+vector instructions. Blocks of records are spread over the cores in threads. The model's
+sizes and a whole-number Bouc-Wen exponent are compile-time constants of the kernel
+(:func:`.native.size_marker`; one compiled version per combination, cached on disk), so
+its loops unroll and ``|h|^(n-1)`` costs a few multiplications instead of ``pow``.
+"""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
-from .model import ShearBuildingModel, rates
+from .native import JIT, bouc_wen_rate, local_array, run_chunks, size_marker, whole_power
+from .reduced import ReducedModel
+
+LANES = 16
+"""Records integrated together by one SIMD loop."""
+
+NODES = np.array([0.0, 0.5, 0.5, 1.0])
+"""Times of the classical Runge-Kutta stages, as fractions of the step."""
+
+WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
+"""Weights of the stages."""
+
+STAGES = 5
+"""State buffers of one step: the state, then where each Runge-Kutta stage starts."""
 
 
 def integrate_rk4(
-    model: ShearBuildingModel, ground_acceleration: np.ndarray, dt: float, substeps: int
-) -> np.ndarray:
+    model: ReducedModel,
+    ground_acceleration: np.ndarray,
+    dt: float,
+    substeps: int,
+    precision: type[np.floating] = np.float64,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Response of a building at rest at t = 0 to ground accelerations linear between samples.
 
     Args:
-        model: the building.
+        model: the (reduced) building.
         ground_acceleration: ``[n, T]`` a_g in m/s^2, sampled every ``dt``.
         dt: sample spacing in s.
         substeps: Runge-Kutta steps per sample interval.
+        precision: ``numpy.float32`` or ``numpy.float64``, the arithmetic of the kernel
+            (float32 does twice as many records per instruction); results are float64.
 
     Returns:
-        ``[n, T, 3d]`` states ``[u, u', h]`` (m, m/s, m) at the samples.
+        Floor displacements ``[n, T, d]`` (m), story drifts ``[n, T, d]`` (m) and story
+        shears ``[n, T, d]`` (N) at the samples, and ``[n]`` whether each record stayed
+        finite.
     """
-    n_records, n_steps = ground_acceleration.shape
-    state = np.zeros((n_records, model.state_matrix.shape[0]))
-    history = np.zeros((n_records, n_steps, state.shape[1]))
-    step = dt / substeps
-    for k in range(n_steps - 1):
-        start = ground_acceleration[:, k]
-        change = (ground_acceleration[:, k + 1] - start) / substeps
-        for s in range(substeps):
-            a0 = start + s * change
-            a_mid = a0 + 0.5 * change
-            k1 = rates(model, state, a0)
-            k2 = rates(model, state + (0.5 * step) * k1, a_mid)
-            k3 = rates(model, state + (0.5 * step) * k2, a_mid)
-            k4 = rates(model, state + step * k3, a0 + change)
-            state = state + (step / 6.0) * (k1 + 2.0 * (k2 + k3) + k4)
-        history[:, k + 1] = state
-    return history
+    ag = np.ascontiguousarray(ground_acceleration, dtype=precision)
+    n_records, n_steps = ag.shape
+    r, d = model.n_coordinates, model.n_stories
+    displacement, drift, shear = (np.empty((n_records, n_steps, d)) for _ in range(3))
+    finite = np.empty(n_records, dtype=np.bool_)
+    h = dt / substeps
+    fractions = (np.arange(substeps)[:, None] + NODES) / substeps
+    stages = np.array([WEIGHTS * h, np.append(NODES[1:], 0.0) * h])
+    power = float(model.exponent) - 1.0
+    arrays = (
+        model.stiffness,
+        model.damping,
+        model.hysteretic,
+        model.drift,
+        model.participation,
+        model.floors,
+        model.alpha * model.story_stiffness,
+        (1.0 - model.alpha) * model.story_stiffness,
+        fractions,
+        stages,
+    )
+    coefficients = [np.ascontiguousarray(c, dtype=precision) for c in arrays] + [
+        precision(x) for x in (model.a, model.delta, model.zeta, power)
+    ]
+    sizes = (size_marker(r), size_marker(d), size_marker(2 * r + d), whole_power(power))
+
+    def kernel(rows: slice) -> None:
+        outputs = (displacement[rows], drift[rows], shear[rows], finite[rows])
+        _rk4_kernel(ag[rows], *coefficients, *sizes, *outputs)
+
+    run_chunks(kernel, n_records, LANES)
+    return displacement, drift, shear, finite
+
+
+@numba.njit(**JIT)
+def _rk4_kernel(
+    ag,
+    stiffness,
+    damping,
+    hysteretic,
+    drift,
+    participation,
+    floors,
+    elastic_shear,
+    hysteretic_shear,
+    fractions,
+    stages,
+    a,
+    delta,
+    zeta,
+    power,
+    coordinates,
+    stories,
+    states,
+    whole_power,
+    displacement_out,
+    drift_out,
+    shear_out,
+    finite_out,
+):
+    """Integrate the records of ``ag [n, T]`` and write the outputs ``[n, T, d]``, ``[n]``.
+
+    The model's arrays are those of :class:`.ReducedModel`; story shears are
+    ``elastic_shear * v + hysteretic_shear * h`` (N/m, ``[d]`` each). ``fractions``
+    ``[substeps, 4]`` are the times of the stages of each Runge-Kutta step as fractions of a
+    sample interval;
+    ``stages [2, 4]`` holds each stage's weight times the step h, and how far (s) along its
+    rates the next stage starts. ``coordinates``, ``stories`` and ``states`` are size
+    markers of r, d and 2 r + d. The arithmetic is that of ``ag``'s dtype.
+    """
+    n_records, n_steps = ag.shape
+    r, d, n_states = len(coordinates), len(stories), len(states)
+    dtype = ag.dtype
+    kappa = local_array((coordinates,), dtype)
+    damp = local_array((coordinates, coordinates), dtype)
+    hyst = local_array((coordinates, stories), dtype)
+    drift_map = local_array((stories, coordinates), dtype)
+    floor_map = local_array((stories, coordinates), dtype)
+    part = local_array((coordinates,), dtype)
+    shear_map = local_array((2, stories), dtype)
+    for i in range(r):
+        kappa[i] = stiffness[i]
+        part[i] = participation[i]
+        for j in range(r):
+            damp[i, j] = damping[i, j]
+        for s in range(d):
+            hyst[i, s] = hysteretic[i, s]
+            drift_map[s, i] = drift[s, i]
+            floor_map[s, i] = floors[s, i]
+    for s in range(d):
+        shear_map[0, s] = elastic_shear[s]
+        shear_map[1, s] = hysteretic_shear[s]
+    model = (kappa, damp, hyst, drift_map, part, a, delta, zeta, power, whole_power)
+    stage = local_array((STAGES, states, LANES), dtype)
+    total = local_array((states, LANES), dtype)
+    values = local_array((2, stories, LANES), dtype)
+    state = stage[0]
+    block_ag = np.zeros((n_steps, LANES), dtype)
+    for first in range(0, n_records, LANES):
+        count = min(LANES, n_records - first)
+        for lane in range(count):
+            for k in range(n_steps):
+                block_ag[k, lane] = ag[first + lane, k]
+        state[:] = 0
+        sample = (first, count, floor_map, shear_map, values)
+        _write_sample(state, 0, sample, displacement_out, drift_out, shear_out)
+        for k in range(n_steps - 1):
+            for sub in range(fractions.shape[0]):
+                total[:] = 0
+                for i in range(STAGES - 1):
+                    weight, step, fraction = stages[0, i], stages[1, i], fractions[sub, i]
+                    _stage(stage, i, total, weight, step, block_ag, k, fraction, model, states)
+                for i in range(n_states):
+                    for lane in range(LANES):
+                        state[i, lane] += total[i, lane]
+            _write_sample(state, k + 1, sample, displacement_out, drift_out, shear_out)
+        for lane in range(count):
+            finite = True
+            for i in range(n_states):
+                finite &= np.isfinite(state[i, lane])
+            finite_out[first + lane] = finite
+
+
+@numba.njit(inline="always", **JIT)
+def _stage(stage, i, total, weight, step, block_ag, k, fraction, model, states):
+    """Runge-Kutta stage ``i`` of every lane: the rates ``f`` at ``stage[i]``
+    ``[2r + d, LANES]`` with ``a_g`` a ``fraction`` into sample interval ``k``, then
+    ``total += weight f`` and ``stage[i + 1] = stage[0] + step f``.
+
+    All buffers are parts of one stack array, at offsets that never overlap, which lets
+    LLVM vectorise the loop over the lanes without run-time alias checks.
+    """
+    kappa, damp, hyst, drift_map, part, a, delta, zeta, power, whole_power = model
+    r, d = kappa.shape[0], drift_map.shape[0]
+    rate = local_array((states,), stage.dtype)
+    source, base, target = stage[i], stage[0], stage[i + 1]
+    for lane in range(LANES):
+        ground = block_ag[k, lane] + fraction * (block_ag[k + 1, lane] - block_ag[k, lane])
+        for j in range(r):
+            rate[j] = source[r + j, lane]
+        for j in range(r):
+            force = kappa[j] * source[j, lane] + part[j] * ground
+            for m in range(r):
+                force += damp[j, m] * source[r + m, lane]
+            for s in range(d):
+                force += hyst[j, s] * source[2 * r + s, lane]
+            rate[r + j] = -force
+        for s in range(d):
+            drift_rate = drift_map[s, 0] * source[r, lane]
+            for m in range(1, r):
+                drift_rate += drift_map[s, m] * source[r + m, lane]
+            rate[2 * r + s] = bouc_wen_rate(
+                drift_rate, source[2 * r + s, lane], a, delta, zeta, power, whole_power
+            )
+        for j in range(2 * r + d):
+            total[j, lane] += weight * rate[j]
+            target[j, lane] = base[j, lane] + step * rate[j]
+
+
+@numba.njit(inline="always", **JIT)
+def _write_sample(state, k, sample, displacement_out, drift_out, shear_out):
+    """Write sample ``k`` of a block's records: floor displacements, story drifts (their
+    differences, in float64) and story shears."""
+    first, count, floor_map, shear_map, values = sample
+    r, d = floor_map.shape[1], floor_map.shape[0]
+    for lane in range(LANES):
+        for s in range(d):
+            floor = floor_map[s, 0] * state[0, lane]
+            for j in range(1, r):
+                floor += floor_map[s, j] * state[j, lane]
+            values[0, s, lane] = floor
+            values[1, s, lane] = shear_map[1, s] * state[2 * r + s, lane]
+    for lane in range(count):
+        below = 0.0
+        for s in range(d):
+            floor = np.float64(values[0, s, lane])
+            displacement_out[first + lane, k, s] = floor
+            drift_out[first + lane, k, s] = floor - below
+            shear_out[first + lane, k, s] = shear_map[0, s] * (floor - below) + values[1, s, lane]
+            below = floor

@@ -9,21 +9,21 @@ hold) and the structure at rest at ``t = 0``, the samples of the state obey exac
 with ``Phi = exp(A dt)`` and ``Gamma0``, ``Gamma1`` read from the exponential of an augmented
 matrix. Where ``A`` has a well-conditioned eigenbasis (eigenvalues ``lambda``), each
 eigen-coordinate obeys the scalar recurrence ``eta_{k+1} = mu eta_k + g0 a_k + g1 a_{k+1}``
-with ``mu = exp(lambda dt)``; a conjugate pair is run as one real second-order filter
-(:func:`scipy.signal.lfilter`) over all records at once, in chunks spread over threads.
-Otherwise (a defective or nearly defective ``A``, such as a critically damped mode or a
-rigid-body mode) the real recurrence above is stepped directly.
+with ``mu = exp(lambda dt)``; of a conjugate pair only one member is run (the outputs take
+twice its real part). A compiled kernel runs these recurrences with the records in SIMD
+lanes, blocks of records spread over the cores in threads. Otherwise (a defective or
+nearly defective ``A``, such as a critically damped mode or a rigid-body mode) the real
+recurrence above is stepped directly.
 """
 
 from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
 
+import numba
 import numpy as np
 from scipy.linalg import expm
-from scipy.signal import lfilter
 
 from cphysfno_core import LinearSystem
 
@@ -31,8 +31,8 @@ CONDITION_LIMIT = 1e6
 """Largest condition number of the (row-equilibrated) eigenvector matrix for which the
 eigen-coordinate path is used; round-off grows with it, so 1e6 keeps the error near 1e-10."""
 
-CHUNK_ELEMENTS = 2**20
-"""Records are filtered in chunks of about this many filter samples (float64), in threads."""
+LANES = 64
+"""Records advanced together by one SIMD loop of the kernel."""
 
 
 def linear_response(system: LinearSystem, acceleration: np.ndarray, dt: float) -> np.ndarray:
@@ -105,55 +105,6 @@ def _well_conditioned(vectors: np.ndarray) -> bool:
     return bool(np.linalg.cond(rows) <= CONDITION_LIMIT)
 
 
-@dataclass(frozen=True)
-class _PairFilters:
-    """Real filters that produce the outputs from the eigen-coordinates, one per kept mode.
-
-    Attributes:
-        denominators: ``[n_modes, 3]`` all-pole filter ``1 / (1 + d1 z^-1 + d2 z^-1)``.
-        delayed: ``[3 n_modes, n_outputs]`` weights of each filter output and its two delays.
-        start_transient: ``[n_steps, n_outputs]`` output of a unit ``a_0`` that the filters
-            add by starting from zero rather than from rest.
-    """
-
-    denominators: np.ndarray
-    delayed: np.ndarray
-    start_transient: np.ndarray
-
-
-def _pair_filters(
-    eigenvalues: np.ndarray,
-    vectors: np.ndarray,
-    gamma0: np.ndarray,
-    gamma1: np.ndarray,
-    output_map: np.ndarray,
-    dt: float,
-    n_steps: int,
-) -> _PairFilters:
-    """Real filters for ``eta_{k+1} = mu eta_k + g0 a_k + g1 a_{k+1}`` of each eigenvalue.
-
-    A conjugate pair contributes twice the real part of one member ``eta``, and
-    ``eta = beta(z) s`` with ``s`` the output of the real all-pole filter
-    ``1 / ((1 - mu z^-1)(1 - conj(mu) z^-1))`` and ``beta(z) = (g1 + g0 z^-1)(1 - conj(mu) z^-1)``
-    (a real eigenvalue has a first-order filter and ``beta(z) = g1 + g0 z^-1``), so the
-    outputs are real combinations of ``s`` and its two delays. A filter started from zero
-    puts ``g1 a_0 mu^k`` into ``eta``; ``start_transient`` is what that adds to the outputs.
-    """
-    keep = eigenvalues.imag >= 0
-    paired = eigenvalues[keep].imag > 0
-    inverse = np.linalg.inv(vectors)[keep]
-    g0, g1 = inverse @ gamma0, inverse @ gamma1
-    mu = np.exp(eigenvalues[keep] * dt)
-    partner = np.where(paired, np.conj(mu), 0.0)
-    to_output = (output_map @ vectors[:, keep]) * np.where(paired, 2.0, 1.0)
-    beta = np.stack([g1, g0 - g1 * partner, -g0 * partner], axis=1)
-    delayed = np.einsum("ij,jm->jmi", to_output, beta).real.reshape(-1, output_map.shape[0])
-    denominators = np.stack([np.ones_like(mu), -(mu + partner), mu * partner], axis=1).real
-    powers = mu[:, None] ** np.arange(n_steps)[None, :]
-    start_transient = ((to_output * g1) @ powers).real.T
-    return _PairFilters(denominators, delayed, start_transient)
-
-
 def _eigen_response(
     eigenvalues: np.ndarray,
     vectors: np.ndarray,
@@ -163,28 +114,73 @@ def _eigen_response(
     ag: np.ndarray,
     dt: float,
 ) -> np.ndarray:
-    """Outputs from the eigen-coordinates, run as real filters over chunks of records."""
+    """Outputs from the eigen-coordinates ``eta_{k+1} = mu eta_k + g0 a_k + g1 a_{k+1}``.
+
+    Only eigenvalues with ``Im >= 0`` are run; a member of a conjugate pair counts twice
+    (the outputs are real parts).
+    """
+    keep = eigenvalues.imag >= 0
+    inverse = np.linalg.inv(vectors)[keep]
+    doubled = np.where(eigenvalues[keep].imag > 0, 2.0, 1.0)
+    coefficients = np.stack([np.exp(eigenvalues[keep] * dt), inverse @ gamma0, inverse @ gamma1])
+    to_output = (output_map @ vectors[:, keep]) * doubled
+    recurrence = np.ascontiguousarray(np.stack([coefficients.real, coefficients.imag]))
+    mapped = np.ascontiguousarray(np.stack([to_output.real, -to_output.imag]))
     n_records, n_steps = ag.shape
-    filters = _pair_filters(eigenvalues, vectors, gamma0, gamma1, output_map, dt, n_steps)
     out = np.empty((n_records, n_steps, output_map.shape[0]))
-    chunk = max(1, CHUNK_ELEMENTS // (filters.delayed.shape[0] * n_steps))
-    blocks = [slice(first, first + chunk) for first in range(0, n_records, chunk)]
-    with ThreadPoolExecutor(max_workers=min(len(blocks), _cpu_count())) as pool:
-        list(pool.map(lambda rows: _filter_block(filters, ag[rows], out[rows]), blocks))
+    blocks = -(-n_records // LANES)
+    workers = max(1, min(_cpu_count(), blocks))
+    bounds = [min(n_records, LANES * (blocks * i // workers)) for i in range(workers + 1)]
+    chunks = [slice(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True)]
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        list(pool.map(lambda rows: _modal_kernel(ag[rows], recurrence, mapped, out[rows]), chunks))
     return out
 
 
-def _filter_block(filters: _PairFilters, records: np.ndarray, out: np.ndarray) -> None:
-    """Write the outputs ``[n, n_steps, n_outputs]`` of ``records [n, n_steps]`` into ``out``."""
-    n, n_steps = records.shape
-    taps = np.empty((n, filters.denominators.shape[0], 3, n_steps))
-    for j, denominator in enumerate(filters.denominators):
-        filtered = lfilter([1.0], denominator, records, axis=1)
-        for delay in range(3):
-            taps[:, j, delay, :delay] = 0.0
-            taps[:, j, delay, delay:] = filtered[:, : n_steps - delay]
-    np.matmul(taps.reshape(n, -1, n_steps).mT, filters.delayed, out=out)
-    out -= records[:, :1, None] * filters.start_transient[None]
+@numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract", "nsz"})
+def _modal_kernel(ag, coefficients, to_output, out):
+    """Write ``out [n, T, n_outputs]`` from the records ``ag [n, T]`` (m/s^2).
+
+    ``coefficients [2, 3, M]`` holds the real and imaginary parts of ``mu``, ``g0`` and
+    ``g1`` of the M eigen-coordinates run; ``to_output [2, n_outputs, M]`` the real part and
+    the negated imaginary part of their map to the outputs (``y = Re(T eta)``).
+    """
+    n_records, n_steps = ag.shape
+    n_modes, n_outputs = coefficients.shape[2], to_output.shape[1]
+    eta = np.empty((2, n_modes, LANES))
+    block = np.empty((n_steps, LANES))
+    value = np.empty(LANES)
+    for first in range(0, n_records, LANES):
+        count = min(LANES, n_records - first)
+        block[:] = 0.0
+        for lane in range(count):
+            for k in range(n_steps):
+                block[k, lane] = ag[first + lane, k]
+        eta[:] = 0.0
+        for lane in range(count):
+            for o in range(n_outputs):
+                out[first + lane, 0, o] = 0.0
+        for k in range(n_steps - 1):
+            now, later = block[k], block[k + 1]
+            for m in range(n_modes):
+                mu_re, mu_im = coefficients[0, 0, m], coefficients[1, 0, m]
+                g0_re, g0_im = coefficients[0, 1, m], coefficients[1, 1, m]
+                g1_re, g1_im = coefficients[0, 2, m], coefficients[1, 2, m]
+                real, imag = eta[0, m], eta[1, m]
+                for lane in range(LANES):
+                    a0, a1 = now[lane], later[lane]
+                    re, im = real[lane], imag[lane]
+                    real[lane] = mu_re * re - mu_im * im + g0_re * a0 + g1_re * a1
+                    imag[lane] = mu_re * im + mu_im * re + g0_im * a0 + g1_im * a1
+            for o in range(n_outputs):
+                value[:] = 0.0
+                for m in range(n_modes):
+                    c_re, c_im = to_output[0, o, m], to_output[1, o, m]
+                    real, imag = eta[0, m], eta[1, m]
+                    for lane in range(LANES):
+                        value[lane] += c_re * real[lane] + c_im * imag[lane]
+                for lane in range(count):
+                    out[first + lane, k + 1, o] = value[lane]
 
 
 def _cpu_count() -> int:

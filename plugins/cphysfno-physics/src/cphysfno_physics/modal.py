@@ -30,6 +30,10 @@ class ModalReduction(PhysicsPreprocessor):
     Runge-Kutta scheme, ``substeps`` steps per sample, with ``a_g`` linear between samples.
     With ``r = n_dof`` it is the full nonlinear model.
 
+    A structure with the capability ``projected_simulation`` integrates the reduced model
+    itself (:meth:`Structure.simulate_projected`, typically compiled); otherwise this class
+    does, in NumPy, from the structure's ``restoring_force``.
+
     Fitted attributes (``q`` is in m sqrt(kg)):
         shapes_: ``[n_dof, r]`` mass-normalised mode shapes in 1/sqrt(kg).
         frequencies_: ``[r]`` elastic circular frequencies in rad/s, ascending.
@@ -37,6 +41,7 @@ class ModalReduction(PhysicsPreprocessor):
         participation_: ``[r]`` ``Phi_r^T M r`` in sqrt(kg).
         output_shapes_: ``[n_outputs, r]`` ``L Phi_r`` in 1/sqrt(kg).
         restoring_force_: the structure's restoring force.
+        structure_: the structure, which integrates the reduced model where it can.
     """
 
     name = "modal"
@@ -69,6 +74,7 @@ class ModalReduction(PhysicsPreprocessor):
         self.participation_ = vectors.T @ system.mass @ system.influence
         self.output_shapes_ = system.output_map @ vectors
         self.restoring_force_ = structure.restoring_force()
+        self.structure_ = structure
         return self
 
     def substeps_for(self, dt: float) -> int:
@@ -81,9 +87,12 @@ class ModalReduction(PhysicsPreprocessor):
     def transform(self, motions: GroundMotions) -> np.ndarray:
         """``[n_records, n_steps, n_outputs]`` reduced-model displacements in m."""
         check_fitted(self, "shapes_")
+        n_sub = self.substeps_for(motions.dt)
+        if "projected_simulation" in self.structure_.capabilities():
+            projected = self.structure_.simulate_projected(motions, self.shapes_, substeps=n_sub)
+            return projected.displacement
         ag = motions.acceleration
         n_records, n_steps = ag.shape
-        n_sub = self.substeps_for(motions.dt)
         h = motions.dt / n_sub
         r = self.params.modes
         state = np.concatenate(

@@ -54,8 +54,9 @@ def interpolate_in_time(values: np.ndarray, dt: float, times: np.ndarray) -> np.
     """
     position = np.clip(np.asarray(times, dtype=np.float64) / dt, 0.0, values.shape[1] - 1)
     left = np.minimum(np.floor(position).astype(int), max(values.shape[1] - 2, 0))
-    right = np.minimum(left + 1, values.shape[1] - 1)
-    weight = (position - left)[None, :, None]
-    below, above = np.take(values, left, axis=1), np.take(values, right, axis=1)
-    below += weight * (above - below)
-    return below
+    rise = np.diff(values, axis=1, append=values[:, -1:])
+    result = np.take(values, left, axis=1)
+    change = np.take(rise, left, axis=1)
+    change *= (position - left)[None, :, None]
+    result += change
+    return result

@@ -1,0 +1,142 @@
+"""Speed and accuracy of the physics preprocessors ``els``, ``modal`` (r = 2) and ``relaxed``
+(k = 30) on 1000 paper white-noise records (3001 samples at 0.01 s) and the Example 1
+Bouc-Wen building.
+
+- ``els`` beside ``scipy.signal.lsim`` of the same linear system, record by record (timed on
+  a subset, scaled linearly to all records), with its largest error relative to lsim.
+- ``modal`` beside the same preprocessor integrating the reduced model in NumPy from the
+  structure's restoring force (the path for structures without ``projected_simulation``).
+- ``modal`` and ``relaxed`` with the fine-grid nonlinear simulation as context, and their
+  relative L2 to it per story.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.signal
+
+import cphysfno_core as cp
+
+from .common import Row, best_time
+
+
+def run(quick: bool = False) -> list[Row]:
+    n_records, n_lsim, n_accuracy = (20, 4, 10) if quick else (1000, 100, 100)
+    motions = cp.create("ground_motion", "white-noise").sample(n_records, np.random.default_rng(0))
+    building = cp.create("structure", "bouc-wen-shear-building")
+    load_before = _load()
+    fine = best_time(lambda: building.simulate(motions), repeat=3)
+    truth = building.simulate(motions[:n_accuracy]).displacement
+    preprocessors = {
+        name: cp.create("preprocessor", name).fit(building) for name in ("els", "modal", "relaxed")
+    }
+    ours = {
+        name: best_time(lambda p=p: p.transform(motions), repeat=3)
+        for name, p in preprocessors.items()
+    }
+    lsim_seconds, lsim_z = _lsim(building.linear_system(), motions[:n_lsim])
+    els_z = preprocessors["els"].transform(motions[:n_lsim])
+    els_error = np.max(np.abs(els_z - lsim_z), axis=(1, 2)) / np.max(np.abs(lsim_z), axis=(1, 2))
+    generic_seconds = _generic_modal_seconds(building, motions)
+    accuracy = {
+        name: _relative_l2(preprocessors[name].transform(motions[:n_accuracy]), truth)
+        for name in ("els", "modal", "relaxed")
+    }
+    load = f"load average {load_before} before, {_load()} after"
+    size = f"{n_records} x {motions.n_steps} x 5"
+    scale = n_records / n_lsim
+
+    def l2(name: str) -> str:
+        values = ", ".join(f"{v:.3f}" for v in accuracy[name])
+        return f"relative L2 to the fine-grid truth per story ({n_accuracy} records): {values}"
+
+    return [
+        Row(
+            stage=f"els, {size}",
+            ours_s=ours["els"],
+            alternative="scipy.signal.lsim, record by record",
+            alternative_s=lsim_seconds * scale,
+            target="<= 0.2 s; exact to 1e-6 vs lsim",
+            notes=[
+                f"largest max abs(z - lsim) / max abs(lsim) per record, {n_lsim} records: "
+                f"{els_error.max():.1e}",
+                f"lsim: {n_lsim} records timed, scaled x{scale:g}",
+                l2("els"),
+                load,
+            ],
+        ),
+        Row(
+            stage=f"modal r=2, {size}",
+            ours_s=ours["modal"],
+            alternative="the same in NumPy from restoring_force",
+            alternative_s=generic_seconds,
+            target="<= 1 s",
+            notes=[
+                "ours: the structure integrates the projected model (compiled RK4, float32)",
+                f"fine-grid nonlinear simulate for context: {fine:.3g} s",
+                l2("modal"),
+                load,
+            ],
+        ),
+        Row(
+            stage=f"relaxed k=30, {size}",
+            ours_s=ours["relaxed"],
+            alternative="fine-grid nonlinear simulate (context)",
+            alternative_s=fine,
+            target="<= 2 s",
+            notes=[
+                "3-stage Gauss-Legendre implicit RK at 0.3 s, interpolated to 0.01 s",
+                l2("relaxed"),
+                load,
+            ],
+        ),
+    ]
+
+
+def _lsim(system: cp.LinearSystem, motions: cp.GroundMotions) -> tuple[float, np.ndarray]:
+    """Wall time in s of ``scipy.signal.lsim`` over the records one by one, and ``[n, T, d]``."""
+    n = system.n_dof
+    a = np.block(
+        [
+            [np.zeros((n, n)), np.eye(n)],
+            [
+                -np.linalg.solve(system.mass, system.stiffness),
+                -np.linalg.solve(system.mass, system.damping),
+            ],
+        ]
+    )
+    b = np.concatenate([np.zeros(n), -system.influence])[:, None]
+    c = np.hstack([system.output_map, np.zeros_like(system.output_map)])
+    model = scipy.signal.StateSpace(a, b, c, np.zeros((c.shape[0], 1)))
+    start = time.perf_counter()
+    out = [scipy.signal.lsim(model, record, motions.time)[1] for record in motions.acceleration]
+    return time.perf_counter() - start, np.stack(out)
+
+
+def _generic_modal_seconds(building: cp.Structure, motions: cp.GroundMotions) -> float:
+    """Wall time in s of ``modal`` (r = 2) through the NumPy path, once."""
+    generic_type = type(
+        "WithoutProjectedSimulation",
+        (type(building),),
+        {"simulate_projected": cp.Structure.simulate_projected},
+    )
+    modal = cp.create("preprocessor", "modal").fit(generic_type(**building.get_params()))
+    start = time.perf_counter()
+    modal.transform(motions)
+    return time.perf_counter() - start
+
+
+def _relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """``[d]`` relative L2 per output over every record and sample."""
+    return np.sqrt(((estimate - truth) ** 2).sum(axis=(0, 1)) / (truth**2).sum(axis=(0, 1)))
+
+
+def _load() -> str:
+    """The 1-, 5- and 15-minute load averages."""
+    try:
+        with open("/proc/loadavg") as f:
+            return " ".join(f.read().split()[:3])
+    except OSError:
+        return "unknown"
