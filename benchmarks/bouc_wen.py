@@ -28,7 +28,7 @@ import scipy.linalg
 
 import cphysfno_core as cp
 
-from .common import Row, best_time
+from .common import Row, best_time, load_average
 
 MASS = 3.0e4
 STIFFNESS = np.array([7.5e7, 7.0e7, 6.0e7, 4.5e7, 2.5e7])
@@ -49,7 +49,7 @@ def run(quick: bool = False) -> list[Row]:
     n_records, n_alternative, n_reference = (20, 2, 1) if quick else (1000, 10, 3)
     motions = cp.create("ground_motion", "white-noise").sample(n_records, np.random.default_rng(0))
     building = cp.create("structure", "bouc-wen-shear-building")
-    load_before = _load()
+    load_before = load_average()
     ours = best_time(lambda: building.simulate(motions), repeat=3)
     truth = building.simulate(motions[:n_alternative]).displacement
     references = [_reference(a, motions.dt) for a in motions.acceleration[:n_reference]]
@@ -71,7 +71,7 @@ def run(quick: bool = False) -> list[Row]:
             f"= {motions.dt} s and {_relative_l2(ops_fine, truth[0]).max():.1e} at dt/4 "
             "(Newmark is second order: the same system, converging)",
         ]
-    load = f"load average {load_before} before, {_load()} after"
+    load = f"load average {load_before} before, {load_average()} after"
     size = f"{n_records} x {motions.n_steps} x 5"
     accuracy = (
         f"ours: relative L2 per story (max over stories) {our_error:.1e} against DOP853 "
@@ -224,12 +224,3 @@ def _opensees(ops, ag: np.ndarray, dt: float, substeps: int) -> np.ndarray:
             raise RuntimeError(f"OpenSees analysis failed at sample {k}")
         out[k] = [ops.nodeDisp(story, 1) for story in range(1, 6)]
     return out
-
-
-def _load() -> str:
-    """The 1-, 5- and 15-minute load averages."""
-    try:
-        with open("/proc/loadavg") as f:
-            return " ".join(f.read().split()[:3])
-    except OSError:
-        return "unknown"

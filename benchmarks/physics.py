@@ -18,15 +18,16 @@ import numpy as np
 import scipy.signal
 
 import cphysfno_core as cp
+from cphysfno_core import metrics
 
-from .common import Row, best_time
+from .common import Row, best_time, load_average
 
 
 def run(quick: bool = False) -> list[Row]:
     n_records, n_lsim, n_accuracy = (20, 4, 10) if quick else (1000, 100, 100)
     motions = cp.create("ground_motion", "white-noise").sample(n_records, np.random.default_rng(0))
     building = cp.create("structure", "bouc-wen-shear-building")
-    load_before = _load()
+    load_before = load_average()
     fine = best_time(lambda: building.simulate(motions), repeat=3)
     truth = building.simulate(motions[:n_accuracy]).displacement
     preprocessors = {
@@ -41,10 +42,10 @@ def run(quick: bool = False) -> list[Row]:
     els_error = np.max(np.abs(els_z - lsim_z), axis=(1, 2)) / np.max(np.abs(lsim_z), axis=(1, 2))
     generic_seconds = _generic_modal_seconds(building, motions)
     accuracy = {
-        name: _relative_l2(preprocessors[name].transform(motions[:n_accuracy]), truth)
+        name: metrics.relative_l2(preprocessors[name].transform(motions[:n_accuracy]), truth)
         for name in ("els", "modal", "relaxed")
     }
-    load = f"load average {load_before} before, {_load()} after"
+    load = f"load average {load_before} before, {load_average()} after"
     size = f"{n_records} x {motions.n_steps} x 5"
     scale = n_records / n_lsim
 
@@ -126,17 +127,3 @@ def _generic_modal_seconds(building: cp.Structure, motions: cp.GroundMotions) ->
     start = time.perf_counter()
     modal.transform(motions)
     return time.perf_counter() - start
-
-
-def _relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
-    """``[d]`` relative L2 per output over every record and sample."""
-    return np.sqrt(((estimate - truth) ** 2).sum(axis=(0, 1)) / (truth**2).sum(axis=(0, 1)))
-
-
-def _load() -> str:
-    """The 1-, 5- and 15-minute load averages."""
-    try:
-        with open("/proc/loadavg") as f:
-            return " ".join(f.read().split()[:3])
-    except OSError:
-        return "unknown"
