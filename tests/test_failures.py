@@ -3,6 +3,7 @@ listed; a plugin returning a wrong shape is named."""
 
 import numpy as np
 import pytest
+import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core import pipeline
@@ -26,14 +27,14 @@ def _peaks(config):
     return np.max(np.abs(motions.acceleration), axis=1)
 
 
-@pytest.mark.parametrize("mode", ["nan", "raise"])
+@pytest.mark.parametrize("mode", ["nan", "raise", "report"])
 def test_a_failed_record_stops_the_run_with_its_index_and_cause(toy_registry, tmp_path, mode):
     config = _config({"name": "toy-fragile", "limit": 1.0, "mode": mode})
     peaks = _peaks(config)
     limit = float(np.sort(peaks)[-3])  # the two records with the largest peaks fail
     config = _config({"name": "toy-fragile", "limit": limit, "mode": mode})
     first = int(np.flatnonzero(peaks > limit)[0])
-    cause = "NaN or Inf" if mode == "nan" else "Newton did not converge"
+    cause = {"nan": "NaN or Inf", "raise": "Newton", "report": "Newton .* at t = 1.5 s"}[mode]
     with pytest.raises(cp.DatasetError, match=f"record {first} failed: .*{cause}"):
         cp.generate_dataset(config, tmp_path / "d.h5", progress=False)
     with pytest.raises(cp.DatasetError, match="incomplete"):
@@ -55,6 +56,21 @@ def test_skipped_records_are_listed_and_left_out_of_the_splits(toy_registry, tmp
     assert np.isfinite(data.targets("test")).all() and np.isfinite(data.targets("train")).all()
     assert np.isnan(data.u[sorted(failed)]).all()
     pipeline.train(config, tmp_path / "run")  # the good records are still usable
+
+
+def test_failures_a_structure_reports_are_kept_without_rerunning_records(toy_registry, tmp_path):
+    probe = _config({"name": "toy-fragile"})
+    limit = float(np.sort(_peaks(probe))[-3])
+    config = _config({"name": "toy-fragile", "limit": limit, "mode": "report"}, on_failure="skip")
+    toy_components.FragileStructure.calls = 0
+    cp.generate_dataset(config, tmp_path / "dataset.h5", progress=False)
+    data = cp.load_dataset(tmp_path / "dataset.h5")
+    assert (
+        toy_components.FragileStructure.calls == 3
+    )  # 15 records in chunks of 5, none simulated twice
+    assert set(data.failures) == set(np.flatnonzero(_peaks(probe) > limit).tolist())
+    assert all("at t = 1.5 s" in cause for cause in data.failures.values())
+    assert np.isnan(data.u[sorted(data.failures)]).all()
 
 
 def test_a_plugin_returning_a_wrong_shape_is_named(toy_registry, tmp_path):

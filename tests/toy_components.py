@@ -58,7 +58,8 @@ class ToyStructure(cp.Structure):
 
 class FragileStructure(ToyStructure):
     """The toy structure, failing on records whose peak |a_g| exceeds ``limit``: with NaN
-    output (``mode = "nan"``) or an exception (``mode = "raise"``)."""
+    output (``mode = "nan"``), an exception (``mode = "raise"``) or NaN rows named in
+    ``Responses.failures`` (``mode = "report"``). ``calls`` counts simulations."""
 
     name = "toy-fragile"
 
@@ -66,14 +67,22 @@ class FragileStructure(ToyStructure):
         limit: float = 1.0
         mode: str = "nan"
 
+    calls = 0
+
     def simulate(self, motions, *, dt=None):
+        FragileStructure.calls += 1
         responses = super().simulate(motions, dt=dt)
         broken = np.max(np.abs(motions.acceleration), axis=1) > self.params.limit
         if broken.any() and self.params.mode == "raise":
             raise cp.CphysfnoError("Newton did not converge")
         displacement = responses.displacement.copy()
         displacement[broken] = np.nan
-        return cp.Responses(displacement, responses.dt)
+        failures = {}
+        if self.params.mode == "report":
+            failures = {
+                int(i): "Newton did not converge at t = 1.5 s" for i in np.flatnonzero(broken)
+            }
+        return cp.Responses(displacement, responses.dt, failures=failures)
 
 
 class WrongShapeStructure(ToyStructure):

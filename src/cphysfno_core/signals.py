@@ -125,11 +125,16 @@ class Responses:
         dt: time step in s.
         extras: optional further channels, each ``[n_records, n_steps, k]``
             (for example ``"hysteretic_force"`` in N and ``"drift"`` in m).
+        failures: record index -> why that record's analysis failed (for example
+            ``"did not converge at t = 12.34 s"``); those records' rows are NaN. A
+            structure that reports failures here spares the caller re-running the batch
+            record by record to find them.
     """
 
     displacement: np.ndarray
     dt: float
     extras: Mapping[str, np.ndarray] = field(default_factory=dict)
+    failures: Mapping[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         u = np.asarray(self.displacement, dtype=np.float64)
@@ -140,6 +145,11 @@ class Responses:
         object.__setattr__(self, "displacement", u)
         object.__setattr__(self, "dt", check_time_step(self.dt))
         object.__setattr__(self, "extras", dict(self.extras))
+        failures = {int(i): str(why) for i, why in dict(self.failures).items()}
+        outside = [i for i in failures if not 0 <= i < u.shape[0]]
+        if outside:
+            raise InputError(f"failures name records {outside} outside 0..{u.shape[0] - 1}")
+        object.__setattr__(self, "failures", failures)
 
     @property
     def time(self) -> np.ndarray:

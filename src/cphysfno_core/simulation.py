@@ -59,7 +59,12 @@ class _Parts:
         for name, (entry, preprocessor) in self.preprocessors.items():
             z[name] = np.asarray(preprocessor.transform(motions), dtype=np.float64)
             _check_shape(z[name], shape, entry, "z")
-        return ChunkResult(responses.displacement, extras, z)
+        result = ChunkResult(responses.displacement, extras, z, dict(responses.failures))
+        for i in result.failures:
+            result.u[i] = np.nan
+            for values in result.z.values():
+                values[i] = np.nan
+        return result
 
 
 def _check_shape(values: Any, shape: tuple, entry: Any, what: str) -> None:
@@ -96,7 +101,7 @@ def simulate_chunk(
     motions = GroundMotions(acceleration, dt)
     try:
         result = parts.run(motions)
-        if not _non_finite(result):
+        if set(_non_finite(result)) <= set(result.failures):
             return result
     except PluginError:
         raise
@@ -115,6 +120,10 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
             raise
         except Exception as error:  # noqa: BLE001 - a failed record is listed with its cause
             failures[i] = f"{type(error).__name__}: {error}"
+            results.append(None)
+            continue
+        if single.failures:
+            failures[i] = single.failures[0]
             results.append(None)
             continue
         if _non_finite(single):
