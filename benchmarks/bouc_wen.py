@@ -16,15 +16,13 @@ Accuracy is relative L2 per story (the largest over the stories) against a tight
 
 from __future__ import annotations
 
-import ctypes
-import importlib.util
-import os
 import time
 from collections.abc import Callable
 
 import numpy as np
 import scipy.integrate
 import scipy.linalg
+from cphysfno_opensees.loader import import_opensees
 
 import cphysfno_core as cp
 
@@ -36,13 +34,6 @@ ALPHA, EXPONENT, AMPLITUDE = 0.1, 3.0, 1.0
 SHAPE = 1.0 / (2.0 * 0.01**EXPONENT)
 DAMPING_RATIO = 0.05
 COMPATIBILITY = np.eye(5) - np.eye(5, k=-1)
-OPENSEES_LIBRARIES = (
-    "libquadmath.so.0",
-    "libgfortran.so.4",
-    "libgomp.so.1",
-    "libblas.so.3",
-    "liblapack.so.3",
-)
 
 
 def run(quick: bool = False) -> list[Row]:
@@ -58,8 +49,8 @@ def run(quick: bool = False) -> list[Row]:
     subset = motions.acceleration[:n_alternative]
     ivp_seconds, ivp_u = _timed(lambda a: _solve_ivp(a, motions.dt), subset)
     try:
-        ops = _import_opensees()
-    except (ImportError, OSError) as error:
+        ops = import_opensees()
+    except cp.PluginError as error:
         ops, ops_seconds, ops_notes = None, None, [f"OpenSeesPy not importable ({error})"]
     if ops is not None:
         ops_seconds, ops_u = _timed(lambda a: _opensees(ops, a, motions.dt, 1), subset)
@@ -171,20 +162,6 @@ def _reference(ag: np.ndarray, dt: float) -> np.ndarray:
         ).y[:, -1]
         out[k + 1] = y[:5]
     return out
-
-
-def _import_opensees():
-    """``openseespy.opensees``, its bundled BLAS/LAPACK loaded first (the wheel's
-    ``opensees.so`` does not find them by itself)."""
-    spec = importlib.util.find_spec("openseespylinux")
-    if spec is None or not spec.submodule_search_locations:
-        raise ImportError("OpenSeesPy is not installed: pip install openseespy")
-    folder = os.path.join(spec.submodule_search_locations[0], "lib")
-    for name in OPENSEES_LIBRARIES:
-        ctypes.CDLL(os.path.join(folder, name), mode=ctypes.RTLD_GLOBAL)
-    import openseespy.opensees as ops
-
-    return ops
 
 
 def _opensees(ops, ag: np.ndarray, dt: float, substeps: int) -> np.ndarray:

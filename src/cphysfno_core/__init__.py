@@ -11,6 +11,7 @@ from .errors import (
     DatasetError,
     InputError,
     NotFittedError,
+    PluginError,
     RegistryError,
 )
 from .generation import generate_dataset
@@ -52,6 +53,7 @@ __all__ = [
     "LinearSystem",
     "NeuralOperator",
     "NotFittedError",
+    "PluginError",
     "Params",
     "PhysicsPreprocessor",
     "Refiner",

@@ -1,0 +1,1 @@
+"""OpenSees structures for cphysfno."""
