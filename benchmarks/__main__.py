@@ -9,7 +9,7 @@ import sys
 
 from .common import format_rows, machine
 
-MODULES = ("bouc_wen", "physics", "memory")
+MODULES = ("bouc_wen", "physics", "training", "prediction", "memory")
 
 
 def main(argv: list[str] | None = None) -> int:

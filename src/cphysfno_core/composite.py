@@ -31,7 +31,9 @@ from .training import EpochReport, Normalizer, TrainingHistory, print_progress, 
 
 FORMAT = "cphysfno-composite"
 FORMAT_VERSION = 1
-PREDICT_CHUNK = 64
+PREDICT_CHUNK = 8
+"""Records per operator call in prediction: the activations of a chunk (a few MiB per
+record at the paper's sizes) stay small and are reused from chunk to chunk."""
 
 SAVED_ARRAYS = ("input_mean", "input_std", "output_mean", "output_std", "validation_rmse")
 
@@ -85,6 +87,10 @@ def _resolve(kind: str, part: PartLike | None) -> Any:
         return part
     spec = _as_spec(part)
     return get_registry().create(kind, spec.name, **spec.params)
+
+
+def _rows_of(array: np.ndarray | None, rows: slice) -> np.ndarray | None:
+    return None if array is None else array[rows]
 
 
 def _spec_of(component: Any) -> dict[str, Any] | None:
@@ -277,24 +283,43 @@ class CompositeModel:
             raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
 
     def _run_operator(self, inputs: np.ndarray) -> np.ndarray:
-        """Decoded operator output ``[n, T, dof]`` (float64, m), in chunks of records."""
-        out = []
+        """Decoded operator output ``[n, T, dof]`` (float64, m) for un-normalised
+        ``inputs [n, T, in]``, in chunks of :data:`PREDICT_CHUNK` records."""
+        return self._operator_chunks(inputs.shape[0], inputs.shape[1], lambda rows: inputs[rows])
+
+    def _operator_chunks(
+        self, n: int, steps: int, inputs_of: Callable[[slice], np.ndarray]
+    ) -> np.ndarray:
+        """Decoded operator output ``[n, steps, dof]`` (float64, m), written chunk by chunk.
+
+        ``inputs_of(rows)`` gives the un-normalised inputs ``[len(rows), steps, in]`` of a
+        slice of records, so that no input array larger than a chunk need exist.
+        """
+        out = np.empty((n, steps, self.operator_.out_channels))
         self.operator_.eval()
         with torch.no_grad():
-            for start in range(0, inputs.shape[0], PREDICT_CHUNK):
-                x = torch.as_tensor(
-                    self.input_normalizer_.encode(inputs[start : start + PREDICT_CHUNK])
-                )
-                y = self.output_normalizer_.decode_torch(self.operator_(x))
-                out.append(y.double().numpy())
-        return np.concatenate(out, axis=0)
+            for start in range(0, n, PREDICT_CHUNK):
+                rows = slice(start, start + PREDICT_CHUNK)
+                x = torch.from_numpy(self.input_normalizer_.encode(inputs_of(rows)))
+                out[rows] = self.output_normalizer_.decode_torch(self.operator_(x)).numpy()
+        return out
 
     def predict_stages(self, motions: GroundMotions, z: np.ndarray | None = None) -> Prediction:
-        """Every stage of the prediction for ``motions`` (z may be given precomputed)."""
+        """Every stage of the prediction for ``motions`` (z may be given precomputed).
+
+        The operator runs on chunks of :data:`PREDICT_CHUNK` records whose inputs are built
+        one chunk at a time; beyond the returned arrays, memory use does not grow with the
+        number of records.
+        """
         self._check_fitted()
         if self.preprocessor is not None and z is None:
             z = self.physics(motions)
-        operator_output = self._run_operator(self._inputs(motions, z))
+        shape = motions.acceleration.shape
+        if z is not None and z.shape[:2] != shape:
+            raise InputError(f"physics response {z.shape} does not match motions {shape}")
+        operator_output = self._operator_chunks(
+            shape[0], shape[1], lambda rows: self._inputs(motions[rows], _rows_of(z, rows))
+        )
         if self.refiner is not None:
             mean, std = self.refiner.predict(z, operator_output)
         else:
@@ -380,8 +405,7 @@ class CompositeModel:
             if isinstance(error, pickle.UnpicklingError):
                 reason = "not plain tensors: refused without running it"
             raise DatasetError(
-                f"{directory}: cannot load the model's weights ({type(error).__name__}: "
-                f"{reason})"
+                f"{directory}: cannot load the model's weights ({type(error).__name__}: {reason})"
             ) from None
         model = cls(
             operator,

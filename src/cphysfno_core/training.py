@@ -54,8 +54,14 @@ def relative_l2_loss(prediction: torch.Tensor, target: torch.Tensor) -> torch.Te
 
     Both tensors are ``[batch, T, dof]``; the norms run over time.
     """
+    error, norm = _error_and_norm(prediction, target)
+    return error / norm.clamp_min(1e-30)
+
+
+def _error_and_norm(prediction: torch.Tensor, target: torch.Tensor) -> tuple[torch.Tensor, ...]:
+    """Numerator and denominator of :func:`relative_l2_loss`."""
     error = torch.linalg.vector_norm(prediction - target, dim=1).sum()
-    return error / torch.linalg.vector_norm(target, dim=1).sum().clamp_min(1e-30)
+    return error, torch.linalg.vector_norm(target, dim=1).sum()
 
 
 @dataclass
@@ -202,14 +208,13 @@ def train_operator(
         norm_sum = 0.0
         for start in range(0, xt.shape[0], settings.batch_size):
             rows = order[start : start + settings.batch_size]
-            prediction = decode(operator(xt[rows]))
-            loss = relative_l2_loss(prediction, yt[rows])
+            error, norm = _error_and_norm(decode(operator(xt[rows])), yt[rows])
+            loss = error / norm.clamp_min(1e-30)
             optimiser.zero_grad(set_to_none=True)
             loss.backward()
             optimiser.step()
-            with torch.no_grad():
-                error_sum += torch.linalg.vector_norm(prediction - yt[rows], dim=1).sum().item()
-                norm_sum += torch.linalg.vector_norm(yt[rows], dim=1).sum().item()
+            error_sum += error.item()
+            norm_sum += norm.item()
         learning_rate = optimiser.param_groups[0]["lr"]
         schedule.step()
         operator.eval()

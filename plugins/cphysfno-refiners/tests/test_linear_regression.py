@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cphysfno_refiners import LinearRegressionRefiner
+from cphysfno_refiners import LinearRegressionRefiner, linear_regression
 
 from cphysfno_core import ConfigError, InputError, NotFittedError, Registry
 
@@ -160,3 +160,26 @@ def test_registry_creates_it_by_name() -> None:
     refiner = registry.create("refiner", "linear-regression", n_points=500)
     assert isinstance(refiner, LinearRegressionRefiner)
     assert refiner.get_params() == {"n_points": 500}
+
+
+def test_predict_in_record_blocks_equals_the_formula(monkeypatch) -> None:
+    monkeypatch.setattr(linear_regression, "BLOCK_ELEMENTS", 40)
+    refiner = LinearRegressionRefiner()
+    refiner.load_state_dict({"weights": TRUE_WEIGHTS, "sigma": TRUE_SIGMA})
+    rng = np.random.default_rng(9)
+    z, u_hat = rng.standard_normal((2, 7, 5, 3))
+    mean, std = refiner.predict(z, u_hat)
+    w = TRUE_WEIGHTS
+    np.testing.assert_array_equal(mean, w[:, 0] + w[:, 1] * z + w[:, 2] * u_hat)
+    np.testing.assert_array_equal(std, np.broadcast_to(TRUE_SIGMA, z.shape))
+
+
+def test_non_finite_value_in_a_later_block_names_its_record(monkeypatch) -> None:
+    monkeypatch.setattr(linear_regression, "BLOCK_ELEMENTS", 20)
+    refiner = LinearRegressionRefiner()
+    refiner.load_state_dict({"weights": TRUE_WEIGHTS[:1], "sigma": TRUE_SIGMA[:1]})
+    z = np.zeros((9, 10, 1))
+    u_hat = z.copy()
+    u_hat[6, 3, 0] = np.inf
+    with pytest.raises(InputError, match="u_hat.*record 6"):
+        refiner.predict(z, u_hat)

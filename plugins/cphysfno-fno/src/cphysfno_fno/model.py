@@ -9,6 +9,8 @@ from pydantic import Field
 
 from cphysfno_core import InputError, NeuralOperator, Params
 
+from .dense import pointwise_linear
+from .fused import fourier_layer
 from .spectral import SpectralConv1d
 
 ACTIVATIONS = {"gelu": torch.nn.functional.gelu, "relu": torch.nn.functional.relu}
@@ -36,7 +38,11 @@ class FNOParams(Params):
 
 
 class FourierLayer(torch.nn.Module):
-    """``K(v) + W v``: a spectral convolution plus a pointwise linear map, before sigma."""
+    """``K(v) + W v``: a spectral convolution plus a pointwise linear map, before sigma.
+
+    The modules hold the weights; the layer runs as one
+    :func:`~cphysfno_fno.fused.fourier_layer` with a hand-written backward pass.
+    """
 
     def __init__(self, width: int, modes: int) -> None:
         super().__init__()
@@ -45,7 +51,13 @@ class FourierLayer(torch.nn.Module):
 
     def forward(self, v: torch.Tensor) -> torch.Tensor:
         """``[n, batch, width]`` -> ``[n, batch, width]``."""
-        return self.spectral(v, add=self.pointwise(v))
+        return fourier_layer(
+            v,
+            self.pointwise.weight,
+            self.pointwise.bias,
+            self.spectral.weight_real,
+            self.spectral.weight_imag,
+        )
 
 
 class FNO1d(NeuralOperator):
@@ -86,7 +98,7 @@ class FNO1d(NeuralOperator):
                 f"got shape {tuple(x.shape)}"
             )
         steps = x.shape[1]
-        v = self.lifting(x.transpose(0, 1))
+        v = pointwise_linear(x.transpose(0, 1), self.lifting.weight, self.lifting.bias)
         if self.padding:
             v = torch.nn.functional.pad(v, (0, 0, 0, 0, 0, self.padding))
         for index, layer in enumerate(self.layers):
@@ -95,5 +107,7 @@ class FNO1d(NeuralOperator):
                 v = self.activation(v)
         if self.padding:
             v = v[:steps]
-        v = self.activation(self.projection_hidden(v))
-        return self.projection_out(v).transpose(0, 1).contiguous()
+        hidden = self.projection_hidden
+        v = self.activation(pointwise_linear(v, hidden.weight, hidden.bias))
+        out = pointwise_linear(v, self.projection_out.weight, self.projection_out.bias)
+        return out.transpose(0, 1).contiguous()

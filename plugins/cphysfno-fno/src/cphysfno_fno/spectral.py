@@ -7,6 +7,24 @@ import torch
 from .dft import dft_bases, n_kept_modes
 
 
+def mix_modes(
+    spectrum: torch.Tensor, weight_real: torch.Tensor, weight_imag: torch.Tensor
+) -> torch.Tensor:
+    """Multiply each kept Fourier mode by its complex channel matrix.
+
+    Args:
+        spectrum: ``[2, m, batch, in]``, real parts in ``[0]`` and imaginary parts in ``[1]``.
+        weight_real, weight_imag: ``[m, in, out]`` real and imaginary parts of ``R(k)``.
+
+    Returns:
+        ``[2, m, batch, out]``: real and imaginary parts of ``v̂(k) R(k)`` per mode ``k``.
+    """
+    real, imag = spectrum[0], spectrum[1]
+    mixed_real = torch.baddbmm(torch.bmm(real, weight_real), imag, weight_imag, alpha=-1.0)
+    mixed_imag = torch.baddbmm(torch.bmm(real, weight_imag), imag, weight_real)
+    return torch.stack([mixed_real, mixed_imag])
+
+
 class SpectralConv1d(torch.nn.Module):
     """Multiply the lowest ``modes`` Fourier modes by learned complex matrices, drop the rest.
 
@@ -33,17 +51,6 @@ class SpectralConv1d(torch.nn.Module):
         self.weight_real = torch.nn.Parameter(scale * torch.rand(modes, in_channels, out_channels))
         self.weight_imag = torch.nn.Parameter(scale * torch.rand(modes, in_channels, out_channels))
 
-    def mode_matrices(self, m: int) -> torch.Tensor:
-        """``[m, 2 in, 2 out]`` real form of the first ``m`` complex weight matrices.
-
-        ``[re, im] @ [[W_re, W_im], [-W_im, W_re]] = [re W_re - im W_im, re W_im + im W_re]``,
-        the real and imaginary parts of ``(re + i im) (W_re + i W_im)``.
-        """
-        real, imag = self.weight_real[:m], self.weight_imag[:m]
-        top = torch.cat([real, imag], dim=2)
-        bottom = torch.cat([-imag, real], dim=2)
-        return torch.cat([top, bottom], dim=1)
-
     def forward(self, v: torch.Tensor, add: torch.Tensor | None = None) -> torch.Tensor:
         """``[n, batch, in_channels]`` -> ``[n, batch, out_channels]``.
 
@@ -56,10 +63,8 @@ class SpectralConv1d(torch.nn.Module):
         m = n_kept_modes(n, self.modes)
         forward, inverse = dft_bases(n, self.modes, v.dtype, v.device)
         spectrum = (forward @ v.reshape(n, -1)).view(2, m, batch, self.in_channels)
-        spectrum = spectrum.permute(1, 2, 0, 3).reshape(m, batch, 2 * self.in_channels)
-        mixed = torch.bmm(spectrum, self.mode_matrices(m))
-        mixed = mixed.view(m, batch, 2, self.out_channels).permute(2, 0, 1, 3)
-        mixed = mixed.reshape(2 * m, batch * self.out_channels)
+        mixed = mix_modes(spectrum, self.weight_real[:m], self.weight_imag[:m])
+        mixed = mixed.view(2 * m, batch * self.out_channels)
         if add is None:
             out = inverse @ mixed
         else:

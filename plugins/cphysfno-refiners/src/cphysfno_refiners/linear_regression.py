@@ -14,6 +14,9 @@ from cphysfno_core import InputError, NotFittedError, Params, Refiner
 from cphysfno_core.signals import check_finite
 
 N_WEIGHTS = 3
+BLOCK_ELEMENTS = 2**18
+"""Elements (float64) of the record blocks that :meth:`LinearRegressionRefiner.predict` and
+the finiteness check work on, so that their temporaries stay a few MiB whatever ``n``."""
 
 
 class LinearRegressionParams(Params):
@@ -92,8 +95,14 @@ class LinearRegressionRefiner(Refiner):
         if z.shape[-1] != dof:
             raise InputError(f"{self.name}: fitted for {dof} DOFs, got arrays of shape {z.shape}")
         w = self.weights_
-        mean = w[:, 0] + w[:, 1] * z + w[:, 2] * u_hat
-        std = np.broadcast_to(self.sigma_, mean.shape).copy()
+        mean = np.empty(z.shape)
+        for rows in _record_blocks(z.shape):
+            block = mean[rows]
+            np.multiply(w[:, 1], z[rows], out=block)
+            block += w[:, 0]
+            block += w[:, 2] * u_hat[rows]
+        std = np.empty(z.shape)
+        std[...] = self.sigma_
         return mean, std
 
     def state_dict(self) -> dict[str, np.ndarray]:
@@ -131,5 +140,14 @@ def _as_responses(who: str, **arrays: np.ndarray) -> list[np.ndarray]:
     if first.ndim != 3 or any(a.shape != first.shape for a in converted.values()):
         raise InputError(f"{who}: expected arrays of one shape [n, T, dof], got {shapes}")
     for name, a in converted.items():
-        check_finite(a, name)
+        for rows in _record_blocks(a.shape):
+            if not np.isfinite(a[rows]).all():
+                check_finite(a, name)
     return list(converted.values())
+
+
+def _record_blocks(shape: tuple[int, ...]) -> list[slice]:
+    """Slices of whole records of about :data:`BLOCK_ELEMENTS` elements, covering ``shape[0]``."""
+    per_record = max(1, int(np.prod(shape[1:])))
+    step = max(1, BLOCK_ELEMENTS // per_record)
+    return [slice(start, start + step) for start in range(0, shape[0], step)]

@@ -1,0 +1,253 @@
+"""Training speed: one epoch of the paper's Example 1 FNO through ``train_operator``.
+
+Beside it, neuraloperator's ``FNO`` in the same architecture as far as its API allows, run
+through the same trainer on the same data with the same optimiser and loss. The epoch is
+also put against its FLOP floor: the matrix-product FLOPs of the epoch (forward and
+backward passes, validation pass) over this machine's best sustained float32 ``torch.mm``
+rate.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+from cphysfno_fno import FNO1d
+
+from cphysfno_core import TrainingConfig
+from cphysfno_core.training import Normalizer, train_operator
+
+from .common import Row
+
+ARCHITECTURE = {"layers": 6, "modes": 32, "width": 64, "projection_width": 128}
+IN_CHANNELS = 6
+OUT_CHANNELS = 5
+
+
+@dataclass(frozen=True)
+class Sizes:
+    """Records (training and validation), samples per record and batch size of the run."""
+
+    n_train: int
+    n_val: int
+    steps: int
+    batch: int
+
+
+FULL = Sizes(n_train=400, n_val=100, steps=3001, batch=20)
+QUICK = Sizes(n_train=20, n_val=10, steps=501, batch=10)
+
+
+def fno_flops(batch: int, steps: int, backward: bool) -> float:
+    """Matrix-product FLOPs of one FNO1d pass over ``batch`` records of ``steps`` samples.
+
+    Counts ``2 M N K`` for every product as :mod:`cphysfno_fno` runs it: lifting, per layer
+    the truncated forward DFT, mode mixing, pointwise map and inverse DFT, and the
+    projection; with ``backward`` also the gradient products (input and weight gradients of
+    every map, none for the network input). Element-wise work (GELU, bias, Adam) is left out.
+    """
+    layers, width = ARCHITECTURE["layers"], ARCHITECTURE["width"]
+    hidden = ARCHITECTURE["projection_width"]
+    m = min(ARCHITECTURE["modes"], steps // 2 + 1)
+    rows = batch * steps
+    dft = 2.0 * (2 * m) * steps * batch * width
+    pointwise = 2.0 * rows * width * width
+    mixing = 4 * 2.0 * m * batch * width * width
+    lifting = 2.0 * rows * IN_CHANNELS * width
+    projection = 2.0 * rows * width * hidden + 2.0 * rows * hidden * OUT_CHANNELS
+    forward = lifting + layers * (2 * dft + pointwise + mixing) + projection
+    if not backward:
+        return forward
+    gradients = lifting + layers * (2 * dft + 2 * pointwise + 2 * mixing) + 2 * projection
+    return forward + gradients
+
+
+def epoch_flops(sizes: Sizes) -> float:
+    """FLOPs of one epoch: every training batch forward and backward, validation forward."""
+    train = (sizes.n_train // sizes.batch) * fno_flops(sizes.batch, sizes.steps, True)
+    full_val, rest = divmod(sizes.n_val, sizes.batch)
+    val = full_val * fno_flops(sizes.batch, sizes.steps, False)
+    return train + val + (fno_flops(rest, sizes.steps, False) if rest else 0.0)
+
+
+def best_matmul_rate(shapes: list[tuple[int, int, int]], repeat: int = 5) -> float:
+    """Best sustained float32 ``torch.mm`` rate (FLOP/s) over ``[M, K] @ [K, N]`` shapes
+    ``(M, K, N)``, each timed ``repeat`` times into a preallocated output."""
+    best = 0.0
+    for rows, inner, cols in shapes:
+        a, b = torch.randn(rows, inner), torch.randn(inner, cols)
+        out = torch.empty(rows, cols)
+        torch.mm(a, b, out=out)
+        for _ in range(repeat):
+            start = time.perf_counter()
+            torch.mm(a, b, out=out)
+            best = max(best, 2.0 * rows * inner * cols / (time.perf_counter() - start))
+    return best
+
+
+def matmul_rate(sizes: Sizes) -> float:
+    """:func:`best_matmul_rate` over the epoch's main GEMM shapes: the truncated DFT
+    ``[2m, T] @ [T, batch * width]``, the inverse DFT ``[T, 2m] @ [2m, batch * width]``, the
+    pointwise map ``[batch T, width] @ [width, width]`` and a square ``1024^3``."""
+    width = ARCHITECTURE["width"]
+    m = min(ARCHITECTURE["modes"], sizes.steps // 2 + 1)
+    columns = sizes.batch * width
+    return best_matmul_rate(
+        [
+            (2 * m, sizes.steps, columns),
+            (sizes.steps, 2 * m, columns),
+            (sizes.batch * sizes.steps, width, width),
+            (1024, 1024, 1024),
+        ]
+    )
+
+
+class ChannelsLast(torch.nn.Module):
+    """Adapts a channels-first operator (``[batch, C, T]``) to the trainer's ``[batch, T, C]``.
+
+    The state dict is the wrapped operator's own (neuraloperator adds a ``_metadata`` entry
+    that only its own ``load_state_dict`` accepts).
+    """
+
+    def __init__(self, operator: torch.nn.Module) -> None:
+        super().__init__()
+        self.operator = operator
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return self.operator(x.transpose(1, 2)).transpose(1, 2)
+
+    def state_dict(self, *args, **kwargs):
+        return self.operator.state_dict(*args, **kwargs)
+
+    def load_state_dict(self, state_dict, strict: bool = True, assign: bool = False):
+        return self.operator.load_state_dict(state_dict, strict=strict, assign=assign)
+
+
+def neuralop_fno(n_modes: int) -> torch.nn.Module:
+    """neuraloperator's FNO in Example 1's architecture, adapted to ``[batch, T, C]``.
+
+    Raises:
+        ImportError: neuraloperator is not installed.
+    """
+    from neuralop.models import FNO
+
+    width = ARCHITECTURE["width"]
+    return ChannelsLast(
+        FNO(
+            n_modes=(n_modes,),
+            in_channels=IN_CHANNELS,
+            out_channels=OUT_CHANNELS,
+            hidden_channels=width,
+            n_layers=ARCHITECTURE["layers"],
+            lifting_channel_ratio=0,
+            projection_channel_ratio=ARCHITECTURE["projection_width"] / width,
+            use_channel_mlp=False,
+            positional_embedding=None,
+        )
+    )
+
+
+NEURALOP_DIFFERENCES = (
+    "neuraloperator differs: n_modes counts positive and negative frequencies, so n_modes=32 "
+    "keeps 17 real-FFT modes (n_modes=64 keeps 33, closest to our 32); its 1x1 skip has no "
+    "bias; its spectral convolutions carry a bias; with use_channel_mlp=False it applies GELU "
+    "twice between layers; its lifting is a single 1x1 convolution 6 -> 64 "
+    "(lifting_channel_ratio=0), projection 64 -> 128 -> 5 as ours"
+)
+
+
+def _data(sizes: Sizes) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(0)
+    n = sizes.n_train + sizes.n_val
+    x = rng.standard_normal((n, sizes.steps, IN_CHANNELS), dtype=np.float32)
+    y = 0.01 * rng.standard_normal((n, sizes.steps, OUT_CHANNELS))
+    return x[: sizes.n_train], y[: sizes.n_train], x[sizes.n_train :], y[sizes.n_train :]
+
+
+def epoch_seconds(operator: torch.nn.Module, data: tuple, sizes: Sizes) -> float:
+    """Wall time in s of one epoch of :func:`train_operator` (training and validation)."""
+    x, y, x_val, y_val = data
+    normalizer = Normalizer(np.zeros(OUT_CHANNELS), np.full(OUT_CHANNELS, 0.01))
+    settings = TrainingConfig(epochs=1, batch_size=sizes.batch, learning_rate=1e-3)
+    start = time.perf_counter()
+    train_operator(operator, x, y, x_val, y_val, normalizer, settings, progress=None)
+    return time.perf_counter() - start
+
+
+def _load() -> str:
+    try:
+        return " ".join(open("/proc/loadavg").read().split()[:3])
+    except OSError:
+        return "unknown"
+
+
+def run(quick: bool = False) -> list[Row]:
+    sizes = QUICK if quick else FULL
+    repeat = 2 if quick else 5
+    data = _data(sizes)
+    torch.manual_seed(0)
+    candidates = {"ours": FNO1d(IN_CHANNELS, OUT_CHANNELS, **ARCHITECTURE)}
+    missing = ""
+    try:
+        candidates["neuralop n_modes=32"] = neuralop_fno(32)
+        candidates["neuralop n_modes=64"] = neuralop_fno(64)
+    except ImportError as error:
+        missing = f"neuraloperator not importable ({error}); ours measured alone"
+    load_before = _load()
+    times = {label: [] for label in candidates}
+    warm_up = _data(QUICK)
+    for operator in candidates.values():
+        epoch_seconds(operator, warm_up, QUICK)
+    rates = []
+    for _ in range(repeat):
+        for label, operator in candidates.items():
+            times[label].append(epoch_seconds(operator, data, sizes))
+            rates.append(matmul_rate(sizes))
+    best = {label: min(values) for label, values in times.items()}
+    flops = epoch_flops(sizes)
+    rate = max(rates)
+    floor = flops / rate
+    stage = (
+        f"train 1 epoch, Example 1 FNO ({sizes.n_train} x {sizes.steps}, batch {sizes.batch}, "
+        f"+ validation {sizes.n_val})"
+    )
+    notes = [
+        f"{torch.get_num_threads()} threads; best of {repeat}, interleaved; "
+        f"load average {load_before} before, {_load()} after (2 cores)",
+        "all epochs: "
+        + ", ".join(
+            f"{label} " + "/".join(f"{t:.1f}" for t in values) + " s"
+            for label, values in times.items()
+        ),
+        f"FLOP floor: {flops / 1e9:.0f} GFLOP per epoch (matmul and DFT-matmul, forward + "
+        f"backward + validation) / {rate / 1e9:.0f} GFLOP/s (best torch.mm) = {floor:.2f} s; "
+        f"ours = {best['ours'] / floor:.1f}x the floor",
+    ]
+    if missing:
+        notes.append(missing)
+        return [Row(stage=stage, ours_s=best["ours"], target=">= 4x neuraloperator", notes=notes)]
+    notes.append(NEURALOP_DIFFERENCES)
+    ratios = sorted(
+        theirs / ours
+        for theirs, ours in zip(times["neuralop n_modes=32"], times["ours"], strict=True)
+    )
+    notes.append(
+        f"ratio within each interleaved round: median {ratios[len(ratios) // 2]:.1f}x, "
+        f"range {ratios[0]:.1f}-{ratios[-1]:.1f}x"
+    )
+    notes.append(
+        f"neuralop n_modes=64 (33 modes): {best['neuralop n_modes=64']:.1f} s, "
+        f"{best['neuralop n_modes=64'] / best['ours']:.1f}x ours"
+    )
+    return [
+        Row(
+            stage=stage,
+            ours_s=best["ours"],
+            alternative="neuraloperator 2.0 FNO n_modes=32, same trainer",
+            alternative_s=best["neuralop n_modes=32"],
+            target=">= 4x neuraloperator",
+            notes=notes,
+        )
+    ]
