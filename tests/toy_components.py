@@ -116,6 +116,7 @@ class ToySource(cp.GroundMotionSource):
     """Band-limited random accelerations."""
 
     name = "toy-source"
+    independent_draws = True
 
     class Params(cp.Params):
         n_steps: int = Field(200, gt=1)
@@ -123,10 +124,29 @@ class ToySource(cp.GroundMotionSource):
         scale: float = 1.0
 
     def sample(self, n, rng):
-        raw = rng.standard_normal((n, self.params.n_steps))
-        smooth = np.cumsum(raw, axis=1)
-        smooth -= np.linspace(0, 1, self.params.n_steps) * smooth[:, -1:]
-        return cp.GroundMotions(self.params.scale * smooth, self.params.dt)
+        return _smooth_noise(n, rng, self.params)
+
+
+def _smooth_noise(n, rng, params):
+    raw = rng.standard_normal((n, params.n_steps))
+    smooth = np.cumsum(raw, axis=1)
+    smooth -= np.linspace(0, 1, params.n_steps) * smooth[:, -1:]
+    return cp.GroundMotions(params.scale * smooth, params.dt)
+
+
+class ToyRecordSet(ToySource):
+    """A finite set of ``size`` toy records, drawn without replacement (so not independent
+    draws); asked for more, it returns all it has."""
+
+    name = "toy-record-set"
+    independent_draws = False
+
+    class Params(ToySource.Params):
+        size: int = 12
+
+    def sample(self, n, rng):
+        pool = _smooth_noise(self.params.size, np.random.default_rng(0), self.params)
+        return pool[rng.permutation(self.params.size)[: min(n, self.params.size)]]
 
 
 class ToyPreprocessor(cp.PhysicsPreprocessor):
@@ -206,7 +226,7 @@ def cphysfno_structures():
 
 @cp.hookimpl
 def cphysfno_ground_motions():
-    return [ToySource]
+    return [ToySource, ToyRecordSet]
 
 
 @cp.hookimpl

@@ -8,21 +8,20 @@ from __future__ import annotations
 
 import concurrent.futures
 import multiprocessing
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Sequence
 from contextlib import contextmanager
 from typing import Any
 
 from .config import DataConfig
 from .errors import ConfigError
 
-Task = tuple[int, tuple[Any, ...]]
-
 
 def _windowed(
     submit: Callable[..., Any],
     wait_any: Callable[[set], tuple[set, set]],
     function: Callable[..., Any],
-    tasks: Iterable[Task],
+    keys: Sequence[int],
+    arguments_of: Callable[[int], tuple[Any, ...]],
     window: int,
     on_result: Callable[[int, Any], None],
 ) -> None:
@@ -34,8 +33,8 @@ def _windowed(
             for future in done:
                 on_result(pending.pop(future), future.result())
 
-    for key, arguments in tasks:
-        pending[submit(function, *arguments, key=key)] = key
+    for key in keys:
+        pending[submit(function, *arguments_of(key), key=key)] = key
         drain(window - 1)
     drain(0)
 
@@ -64,28 +63,32 @@ def _dask_client(settings: DataConfig):
 
 def run_tasks(
     function: Callable[..., Any],
-    tasks: list[Task],
+    keys: Sequence[int],
+    arguments_of: Callable[[int], tuple[Any, ...]],
     settings: DataConfig,
     on_result: Callable[[int, Any], None],
 ) -> None:
-    """Run ``function(*arguments)`` for every ``(key, arguments)`` task on the executor of
-    ``settings`` and call ``on_result(key, result)`` in the order results arrive.
+    """Run ``function(*arguments_of(key))`` for every key on the executor of ``settings``
+    and call ``on_result(key, result)`` in the order results arrive.
+
+    Arguments are built only when their task is submitted, so the inputs of the tasks
+    not yet in flight need not exist in memory.
 
     A task whose Dask worker dies is run again elsewhere (``settings.retries`` times);
     any other failure propagates.
     """
     workers = settings.workers or multiprocessing.cpu_count()
     if settings.executor == "serial" or (
-        settings.executor == "processes" and (len(tasks) <= 1 or workers == 1)
+        settings.executor == "processes" and (len(keys) <= 1 or workers == 1)
     ):
-        for key, arguments in tasks:
-            on_result(key, function(*arguments))
+        for key in keys:
+            on_result(key, function(*arguments_of(key)))
         return
     window = 2 * workers
     if settings.executor == "processes":
         context = multiprocessing.get_context("spawn")
         with concurrent.futures.ProcessPoolExecutor(
-            max_workers=min(workers, len(tasks)), mp_context=context
+            max_workers=min(workers, len(keys)), mp_context=context
         ) as pool:
 
             def submit(fn, *arguments, key):
@@ -96,7 +99,7 @@ def run_tasks(
                     futures, return_when=concurrent.futures.FIRST_COMPLETED
                 )
 
-            _windowed(submit, wait_any, function, tasks, window, on_result)
+            _windowed(submit, wait_any, function, keys, arguments_of, window, on_result)
         return
     from distributed import wait
 
@@ -108,4 +111,4 @@ def run_tasks(
         def wait_any(futures):
             return wait(list(futures), return_when="FIRST_COMPLETED")
 
-        _windowed(submit, wait_any, function, tasks, window, on_result)
+        _windowed(submit, wait_any, function, keys, arguments_of, window, on_result)

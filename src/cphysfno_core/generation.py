@@ -1,8 +1,10 @@
 """Dataset generation that survives being killed at any point.
 
 Work in progress lives in a folder beside the dataset, ``<name>.parts/``: a manifest, the
-ground motions, and one ``chunk-NNNNN.npz`` per finished chunk, each written to a temporary
-name and renamed into place, so a file there is always whole. Started again with the same
+ground motions (``motions.npy``), and one ``chunk-NNNNN.npz`` per finished chunk, each
+written to a temporary name and renamed into place, so a file there is always whole. The
+motions are read back a chunk at a time; a source whose records are independent draws is
+also sampled block by block, so no stage holds all records in memory. Started again with the same
 configuration, generation simulates only the missing chunks. When all are there they are
 assembled into the HDF5 file (again written aside and renamed), and the folder is removed:
 a dataset file at the final path is always complete.
@@ -15,6 +17,7 @@ import os
 import shutil
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -25,9 +28,13 @@ from .config import ExperimentConfig
 from .data import SPLITS, check_dataset_identity, dataset_hash, parts_folder, versions
 from .errors import DatasetError
 from .executors import run_tasks
+from .interfaces import GroundMotionSource
 from .registry import get_registry
-from .signals import GroundMotions
 from .simulation import ChunkResult, simulate_chunk
+
+SAMPLE_BLOCK = 256
+"""Records drawn per call from a source with independent draws. Fixed, so that the records
+of a dataset do not depend on the chunk size or the executor."""
 
 
 def _write_atomic(path: Path, write) -> None:
@@ -51,8 +58,63 @@ def _chunk_path(parts: Path, index: int) -> Path:
     return parts / f"chunk-{index:05d}.npz"
 
 
-def _start(config: ExperimentConfig, parts: Path, identity: str) -> tuple[GroundMotions, int]:
-    """Sample the motions (or read them back from an interrupted run) and the chunk size."""
+@dataclass(frozen=True)
+class _StoredMotions:
+    """The ground motions of a dataset in progress, ``[n, n_steps]`` m/s^2 in an ``.npy``
+    file, read back a slice of records at a time."""
+
+    path: Path
+    n_records: int
+    n_steps: int
+    dt: float
+
+    def rows(self, start: int, stop: int) -> np.ndarray:
+        """A copy of records ``start:stop``; the file's pages are released afterwards."""
+        mapped = np.load(self.path, mmap_mode="r")
+        try:
+            return np.array(mapped[start:stop])
+        finally:
+            del mapped
+
+
+def _sample_into(source: GroundMotionSource, n: int, seed: int, target: Path) -> _StoredMotions:
+    """Draw ``n`` records from ``source`` and write them to ``target`` (``.npy``); a source
+    with independent draws is sampled :data:`SAMPLE_BLOCK` records at a time."""
+    rng = np.random.default_rng(seed)
+    block = SAMPLE_BLOCK if source.independent_draws else n
+    temporary = target.with_name(f".{target.name}.tmp")
+    written, stored = 0, None
+    while written < n:
+        wanted = min(block, n - written)
+        motions = source.sample(wanted, rng)[:wanted]
+        if stored is None:
+            stored = _StoredMotions(target, n, motions.n_steps, motions.dt)
+            np.lib.format.open_memmap(temporary, mode="w+", dtype="f8", shape=(n, stored.n_steps))
+        elif (motions.n_steps, motions.dt) != (stored.n_steps, stored.dt):
+            raise DatasetError(
+                f"ground motion '{source.name}' changed its grid between draws: "
+                f"{motions.n_steps} samples at {motions.dt} s after {stored.n_steps} at "
+                f"{stored.dt} s"
+            )
+        mapped = np.lib.format.open_memmap(temporary, mode="r+")
+        mapped[written : written + motions.n_records] = motions.acceleration
+        mapped.flush()
+        del mapped
+        written += motions.n_records
+        if motions.n_records < wanted:
+            break
+    if written < n:
+        temporary.unlink(missing_ok=True)
+        raise DatasetError(
+            f"ground motion '{source.name}' gave {written} records but the data section asks "
+            f"for {n} (n_train + n_val + n_test): lower the split sizes"
+        )
+    os.replace(temporary, target)
+    return stored
+
+
+def _start(config: ExperimentConfig, parts: Path, identity: str) -> tuple[_StoredMotions, int]:
+    """Sample the motions (or find them from an interrupted run) and the chunk size."""
     manifest = parts / "manifest.json"
     if manifest.exists():
         found = json.loads(manifest.read_text())
@@ -61,23 +123,23 @@ def _start(config: ExperimentConfig, parts: Path, identity: str) -> tuple[Ground
                 f"{parts} holds an unfinished dataset of another configuration: remove it or "
                 "choose another output folder"
             )
-        with np.load(parts / "motions.npz", allow_pickle=False) as stored:
-            motions = GroundMotions(stored["ag"], float(stored["dt"]))
-        return motions, int(found["chunk_size"])
+        stored = _StoredMotions(
+            parts / "motions.npy", found["n_records"], found["n_steps"], found["dt"]
+        )
+        return stored, int(found["chunk_size"])
     source_spec = config.ground_motion
     source = get_registry().create("ground_motion", source_spec.name, **source_spec.params)
-    n = config.data.n_records
-    motions = source.sample(n, np.random.default_rng(config.data.seed))
-    if motions.n_records < n:
-        raise DatasetError(
-            f"ground motion '{source.name}' gave {motions.n_records} records but the data "
-            f"section asks for {n} (n_train + n_val + n_test): lower the split sizes"
-        )
     parts.mkdir(parents=True, exist_ok=True)
-    _save_npz(parts / "motions.npz", {"ag": motions.acceleration, "dt": np.array(motions.dt)})
-    record = {"config_hash": identity, "chunk_size": config.data.chunk_size}
+    stored = _sample_into(source, config.data.n_records, config.data.seed, parts / "motions.npy")
+    record = {
+        "config_hash": identity,
+        "chunk_size": config.data.chunk_size,
+        "n_records": stored.n_records,
+        "n_steps": stored.n_steps,
+        "dt": stored.dt,
+    }
     _write_atomic(manifest, lambda temporary: temporary.write_text(json.dumps(record)))
-    return motions, config.data.chunk_size
+    return stored, config.data.chunk_size
 
 
 def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool = True) -> Path:
@@ -148,10 +210,9 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
             )
 
     def arguments(i: int) -> tuple[Any, ...]:
-        start, stop = bounds[i]
-        return structure_spec, pp_specs, motions.acceleration[start:stop], motions.dt
+        return structure_spec, pp_specs, motions.rows(*bounds[i]), motions.dt
 
-    run_tasks(simulate_chunk, [(i, arguments(i)) for i in todo], config.data, store)
+    run_tasks(simulate_chunk, todo, arguments, config.data, store)
 
 
 def _assemble(config, structure, motions, bounds, parts, path, identity) -> None:
@@ -169,7 +230,10 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> None
             f.attrs["output_names"] = json.dumps(list(structure.output_names))
             for split in SPLITS:
                 f.attrs[f"n_{split}"] = getattr(config.data, f"n_{split}")
-            f.create_dataset("ag", data=motions.acceleration)
+            f.create_dataset("ag", shape=shape[:2], dtype="f8")
+            for start in range(0, shape[0], SAMPLE_BLOCK):
+                stop = min(start + SAMPLE_BLOCK, shape[0])
+                f["ag"][start:stop] = motions.rows(start, stop)
             f.create_dataset("u", shape=shape, dtype="f8")
             for pp in config.preprocessor:
                 f.create_dataset(f"z/{pp.name}", shape=shape, dtype="f8")

@@ -186,9 +186,18 @@ class Structure(Component, ABC):
 
 
 class GroundMotionSource(Component, ABC):
-    """Where ground motions come from: a stochastic model or a set of records."""
+    """Where ground motions come from: a stochastic model or a set of records.
+
+    Attributes:
+        independent_draws: True when records are drawn independently of one another, so
+            that consecutive calls ``sample(a, rng)``, ``sample(b, rng)`` with one generator
+            are as valid a draw of ``a + b`` records as one call. Dataset generation then
+            samples such a source in blocks and never holds all motions in memory. A
+            finite record set that samples without replacement keeps the default False.
+    """
 
     kind = "ground_motion"
+    independent_draws: ClassVar[bool] = False
 
     @abstractmethod
     def sample(self, n: int, rng: np.random.Generator) -> GroundMotions:

@@ -70,6 +70,7 @@ class WhiteNoise(GroundMotionSource):
     """
 
     name = "white-noise"
+    independent_draws = True
     Params = WhiteNoiseParams
 
     @property
