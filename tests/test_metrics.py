@@ -57,3 +57,25 @@ def test_relative_l2_loss_is_the_papers_ratio_of_sums():
     assert loss.item() == pytest.approx(error_norms / truth_norms)
     # by hand: error norms DOF0 rec0 1, rec1 1, DOF1 sqrt2 twice; truth sqrt5, 5, sqrt2, sqrt2
     assert loss.item() == pytest.approx((2 + 2 * np.sqrt(2)) / (np.sqrt(5) + 5 + 2 * np.sqrt(2)))
+
+
+def test_interval_coverage_counts_points_inside_by_hand():
+    truth = np.array([[[0.0], [1.0], [2.0], [3.0]]])
+    lower = np.array([[[-1.0], [1.5], [2.0], [0.0]]])
+    upper = lower + 2.0  # intervals [-1, 1], [1.5, 3.5], [2, 4], [0, 2]
+    np.testing.assert_allclose(metrics.interval_coverage(lower, upper, truth), [0.5])
+
+
+def test_a_refiners_default_interval_is_the_gaussian_quantile_band():
+    from toy_components import ToyRefiner
+
+    refiner = ToyRefiner()
+    refiner.load_state_dict({"offset": np.array([0.5]), "sigma": np.array([2.0])})
+    u_hat = np.zeros((1, 3, 1))
+    lower, upper = refiner.interval(u_hat, u_hat, 0.90)
+    np.testing.assert_allclose(upper - 0.5, 2.0 * 1.6448536, rtol=1e-6)
+    np.testing.assert_allclose(lower - 0.5, -2.0 * 1.6448536, rtol=1e-6)
+    lower68, upper68 = refiner.interval(u_hat, u_hat, 0.68)
+    np.testing.assert_allclose(upper68 - 0.5, 2.0 * 0.9944579, rtol=1e-6)
+    with pytest.raises(cp.InputError, match="level must lie in"):
+        refiner.interval(u_hat, u_hat, 1.0)

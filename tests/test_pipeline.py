@@ -65,7 +65,9 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
     }
     for row in document["models"].values():
         assert len(row["rmse"]) == len(row["rel_l2"]) == 2
-    assert "coverage_1sigma" in document["models"]["refined-c-phystoy-operator-toy-linear"]
+    refined = document["models"]["refined-c-phystoy-operator-toy-linear"]
+    assert len(refined["coverage_68"]) == len(refined["coverage_90"]) == 2
+    assert all(a <= b for a, b in zip(refined["coverage_68"], refined["coverage_90"], strict=True))
     report = (out / "report.md").read_text()
     assert "| physics-toy-linear |" in report
     for figure in (

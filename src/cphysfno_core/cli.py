@@ -82,6 +82,24 @@ def _stage(args: argparse.Namespace) -> int:
     return 0
 
 
+def _study(args: argparse.Namespace) -> int:
+    from .report import format_table
+    from .study import run_study
+    from .study_report import write_study_report
+
+    config = load_config(args.config)
+    out = Path(args.out)
+    started = time.perf_counter()
+    summary = run_study(config, out)
+    report = write_study_report(config, summary, out)
+    means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
+    print(f"relative L2 error per output, mean of {len(summary['seeds'])} seeds (test split):")
+    print(format_table(means, summary["output_names"]))
+    print(f"\nsummary: {out / 'study.json'}\nreport:  {report}")
+    print(f"done in {time.perf_counter() - started:.1f} s", file=sys.stderr)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="cphysfno",
@@ -108,6 +126,14 @@ def build_parser() -> argparse.ArgumentParser:
                 help="keep trained models and continue an interrupted one from its checkpoint",
             )
         stage.set_defaults(func=_stage)
+    text = (
+        "run the [study] of a config: every seed and sweep, resuming where it stopped; "
+        "writes study.json and study.md"
+    )
+    study = commands.add_parser("study", help=text, description=text)
+    study.add_argument("config", help="experiment TOML file with a [study] section")
+    study.add_argument("--out", required=True, help="output folder")
+    study.set_defaults(func=_study)
     return parser
 
 

@@ -86,6 +86,12 @@ class TrainingConfig(_Strict):
     loss: Literal["relative-l2"] = "relative-l2"
     seed: int = 0
     threads: int | None = Field(None, gt=0, description="torch CPU threads; default: all")
+    train_records: int | None = Field(
+        None,
+        gt=0,
+        description="train on the first n records of the training split (default: all of "
+        "it), for data-efficiency studies on one dataset",
+    )
 
 
 class OutputConfig(_Strict):
@@ -94,6 +100,31 @@ class OutputConfig(_Strict):
     baseline: bool = Field(True, description="also train the plain operator on [a_g, t]")
     figures: bool = True
     paper_reference: Literal["example1", "none"] = "none"
+
+
+class SweepConfig(_Strict):
+    """One parametric sweep of a study: a config field set to each value in turn."""
+
+    field: str = Field(
+        pattern=r"^[a-z_]+\.[a-z_]+$",
+        description="dotted path of the field, e.g. 'training.train_records' or 'operator.layers'",
+    )
+    values: list[int | float | str] = Field(min_length=1)
+    label: str | None = Field(None, description="axis label of the sweep's figure")
+
+
+class StudyConfig(_Strict):
+    """Repeated training runs over seeds, and parametric sweeps (``cphysfno study``)."""
+
+    seeds: list[int] = Field(default_factory=lambda: list(range(10)), min_length=1)
+    sweeps: dict[str, SweepConfig] = Field(
+        default_factory=dict, description="name -> sweep; each runs every seed"
+    )
+    sweep_preprocessors: list[str] | None = Field(
+        None,
+        description="the C-Phys variants trained in the sweeps, beside the baseline "
+        "(default: every preprocessor)",
+    )
 
 
 class ExperimentConfig(_Strict):
@@ -107,6 +138,7 @@ class ExperimentConfig(_Strict):
     data: DataConfig = Field(default_factory=DataConfig)
     training: TrainingConfig = Field(default_factory=TrainingConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
+    study: StudyConfig | None = None
 
     @field_validator("preprocessor", mode="before")
     @classmethod
@@ -120,6 +152,15 @@ class ExperimentConfig(_Strict):
             raise ValueError(f"each preprocessor may appear once, got {names}")
         if not names and not self.output.baseline:
             raise ValueError("nothing to train: add a [[preprocessor]] or set output.baseline")
+        if self.study is not None and self.study.sweep_preprocessors is not None:
+            unknown = sorted(set(self.study.sweep_preprocessors) - set(names))
+            if unknown:
+                raise ValueError(f"study.sweep_preprocessors {unknown} are not among {names}")
+        if (self.training.train_records or 0) > self.data.n_train:
+            raise ValueError(
+                f"training.train_records = {self.training.train_records} exceeds "
+                f"data.n_train = {self.data.n_train}"
+            )
         return self
 
     def to_dict(self) -> dict[str, Any]:

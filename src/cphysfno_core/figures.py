@@ -153,7 +153,8 @@ def spectra(
         (u - z, "u - z", "tab:purple"),
     ):
         f, p = welch(signal, fs=1.0 / dt, nperseg=segment)
-        psd.semilogy(f[1:], p[1:] / np.max(p[1:]), label=label, color=color, lw=0.9)
+        peak = max(float(np.max(p[1:])), np.finfo(float).tiny)  # u - z may vanish
+        psd.semilogy(f[1:], p[1:] / peak, label=label, color=color, lw=0.9)
     psd.set_xlabel("frequency (Hz)")
     psd.set_ylabel("PSD / max")
     psd.legend(fontsize=8)
@@ -172,4 +173,43 @@ def training_curves(histories: dict[str, dict], path: Path) -> Path:
     ax.set_ylabel("relative L2")
     ax.set_yscale("log")
     ax.legend(fontsize=7)
+    return _save(fig, path)
+
+
+def sweep_boxes(
+    values: list,
+    errors: dict[str, dict[str, list[list[float]]]],
+    dofs: list[int],
+    names: list[str],
+    axis_label: str,
+    path: Path,
+) -> Path:
+    """Box plots of relative L2 over seeds against a swept setting (paper Figs. 8–9).
+
+    Args:
+        values: the swept values, in order.
+        errors: model label -> str(value) -> per-seed ``[n_dof]`` relative L2.
+        dofs: which outputs get a panel each.
+        names: output names.
+        axis_label: the sweep's axis label.
+    """
+    fig, axes = plt.subplots(1, len(dofs), figsize=(4.2 * len(dofs), 3.8), squeeze=False)
+    labels = list(errors)
+    width = 0.8 / max(len(labels), 1)
+    for ax, dof in zip(axes[0], dofs, strict=True):
+        for k, label in enumerate(labels):
+            positions = np.arange(len(values)) + (k - (len(labels) - 1) / 2) * width
+            data = [[seed[dof] for seed in errors[label].get(str(v), [])] for v in values]
+            boxes = ax.boxplot(
+                data, positions=positions, widths=width * 0.9, patch_artist=True, manage_ticks=False
+            )
+            for box in boxes["boxes"]:
+                box.set_facecolor(f"C{k}")
+                box.set_alpha(0.6)
+            ax.plot([], [], color=f"C{k}", lw=6, alpha=0.6, label=label)
+        ax.set_xticks(np.arange(len(values)), [str(v) for v in values])
+        ax.set_xlabel(axis_label)
+        ax.set_ylabel("relative L2 error (test)")
+        ax.set_title(names[dof])
+        ax.legend(fontsize=7)
     return _save(fig, path)

@@ -13,10 +13,11 @@ from abc import ABC, abstractmethod
 from typing import Any, ClassVar, Protocol
 
 import numpy as np
+import scipy.stats
 import torch
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from .errors import CapabilityError, ConfigError
+from .errors import CapabilityError, ConfigError, InputError
 from .signals import GroundMotions, LinearSystem, Responses
 
 KINDS = ("structure", "ground_motion", "preprocessor", "operator", "refiner")
@@ -258,6 +259,21 @@ class Refiner(Component, ABC):
     @abstractmethod
     def predict(self, z: np.ndarray, u_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Refined ``(mean, std)``, each ``[n, T, dof]`` in m."""
+
+    def interval(
+        self, z: np.ndarray, u_hat: np.ndarray, level: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Prediction interval ``(lower, upper)``, each ``[n, T, dof]`` in m, meant to hold
+        the truth with probability ``level`` (0 < level < 1).
+
+        By default the Gaussian interval ``mean ± q std`` with ``q`` the normal quantile of
+        ``(1 + level) / 2``; a refiner with calibrated intervals overrides it.
+        """
+        if not 0.0 < level < 1.0:
+            raise InputError(f"{self.name}: level must lie in (0, 1), got {level}")
+        mean, std = self.predict(z, u_hat)
+        half = float(scipy.stats.norm.ppf(0.5 + level / 2.0)) * std
+        return mean - half, mean + half
 
     @abstractmethod
     def state_dict(self) -> dict[str, np.ndarray]:

@@ -49,3 +49,10 @@ def coverage(mean: np.ndarray, std: np.ndarray, truth: np.ndarray, k: float = 1.
     mean, truth = _pair(mean, truth)
     std = np.broadcast_to(np.asarray(std, dtype=np.float64), truth.shape)
     return np.mean(np.abs(truth - mean) <= k * std, axis=(0, 1))
+
+
+def interval_coverage(lower: np.ndarray, upper: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """Fraction of (record, time) points per DOF where ``lower <= truth <= upper``."""
+    lower, truth = _pair(lower, truth)
+    upper = np.broadcast_to(np.asarray(upper, dtype=np.float64), truth.shape)
+    return np.mean((lower <= truth) & (truth <= upper), axis=(0, 1))

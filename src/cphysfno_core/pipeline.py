@@ -28,7 +28,8 @@ DATASET = "dataset.h5"
 MODELS = "models"
 
 
-def _say(message: str) -> None:
+def say(message: str) -> None:
+    """One line of progress on standard error."""
     print(message, file=sys.stderr, flush=True)
 
 
@@ -46,7 +47,7 @@ def model_labels(config: ExperimentConfig) -> list[str]:
 def generate(config: ExperimentConfig, out: str | Path) -> Path:
     """Stage 1: simulate the dataset into ``out/dataset.h5``."""
     out = Path(out)
-    _say(f"generating {config.data.n_records} records into {out / DATASET}")
+    say(f"generating {config.data.n_records} records into {out / DATASET}")
     return generate_dataset(config, out / DATASET)
 
 
@@ -55,19 +56,27 @@ def _set_threads(config: ExperimentConfig) -> None:
         torch.set_num_threads(config.training.threads)
 
 
-def train(config: ExperimentConfig, out: str | Path, resume: bool = False) -> dict[str, Path]:
+def train(
+    config: ExperimentConfig,
+    out: str | Path,
+    resume: bool = False,
+    dataset: str | Path | None = None,
+) -> dict[str, Path]:
     """Stage 2: train the baseline and one C-PhysFNO per preprocessor; save each model.
 
     Every epoch writes ``models/<label>.checkpoint.pt``; with ``resume``, models already
-    saved are kept and an interrupted one continues from its checkpoint.
+    saved are kept and an interrupted one continues from its checkpoint. ``dataset``
+    defaults to ``out/dataset.h5``; ``config.training.train_records`` keeps the first
+    records of its training split.
     """
     out = Path(out)
-    data = load_dataset(out / DATASET)
+    data = load_dataset(dataset or out / DATASET)
     _set_threads(config)
     registry = get_registry()
     structure = registry.create("structure", config.structure.name, **config.structure.params)
-    train_gm, val_gm = data.motions("train"), data.motions("val")
-    train_u, val_u = data.targets("train"), data.targets("val")
+    kept = slice(config.training.train_records)
+    train_gm, val_gm = data.motions("train")[kept], data.motions("val")
+    train_u, val_u = data.targets("train")[kept], data.targets("val")
     saved: dict[str, Path] = {}
     variants: list[Any] = [None] if config.output.baseline else []
     variants += list(config.preprocessor)
@@ -82,16 +91,16 @@ def train(config: ExperimentConfig, out: str | Path, resume: bool = False) -> di
         )
         z_train = z_val = None
         if pp is not None:
-            z_train, z_val = data.physics(pp.name, "train"), data.physics(pp.name, "val")
+            z_train, z_val = data.physics(pp.name, "train")[kept], data.physics(pp.name, "val")
         directory = out / MODELS / model.label
         checkpoint = out / MODELS / f"{model.label}.checkpoint.pt"
         if resume and (directory / "model.json").exists() and not checkpoint.exists():
-            _say(f"{model.label} is trained already")
+            say(f"{model.label} is trained already")
             model = CompositeModel.load(directory)
         else:
-            _say(
+            say(
                 f"training {model.label} ({config.training.epochs} epochs, "
-                f"{data.sizes['train']} records)"
+                f"{train_gm.n_records} records)"
             )
             model.fit(
                 train_gm,
@@ -128,28 +137,45 @@ class Evaluation:
     metrics: dict[str, dict[str, Any]]
 
 
-def _metric_row(prediction: np.ndarray, truth: np.ndarray, std: np.ndarray | None) -> dict:
-    row = {
+COVERAGE_LEVELS = (0.68, 0.90)
+"""Nominal levels of the prediction intervals whose test coverage is reported."""
+
+
+def _metric_row(prediction: np.ndarray, truth: np.ndarray) -> dict:
+    return {
         "rmse": metrics.rmse(prediction, truth).tolist(),
         "rel_l2": metrics.relative_l2(prediction, truth).tolist(),
         "peak_r2": metrics.peak_r2(prediction, truth),
     }
-    if std is not None:
-        row["coverage_1sigma"] = metrics.coverage(prediction, std, truth).tolist()
-    return row
 
 
-def evaluate(config: ExperimentConfig, out: str | Path) -> Evaluation:
-    """Stage 3: predict the test split with every trained model; write ``metrics.json``."""
+def _coverage(model: CompositeModel, stages: Any, truth: np.ndarray) -> dict[str, list[float]]:
+    """Test coverage per DOF of the refiner's intervals at each nominal level."""
+    found = {}
+    for level in COVERAGE_LEVELS:
+        lower, upper = model.refiner.interval(stages.z, stages.operator_output, level)
+        found[f"coverage_{round(100 * level)}"] = metrics.interval_coverage(
+            lower, upper, truth
+        ).tolist()
+    return found
+
+
+def evaluate(
+    config: ExperimentConfig, out: str | Path, dataset: str | Path | None = None
+) -> Evaluation:
+    """Stage 3: predict the test split with every trained model; write ``metrics.json``.
+
+    Refined models also report the test coverage of their 68 % and 90 % intervals.
+    """
     out = Path(out)
-    data = load_dataset(out / DATASET)
+    data = load_dataset(dataset or out / DATASET)
     _set_threads(config)
     test_gm, test_u = data.motions("test"), data.targets("test")
     results: dict[str, dict[str, Any]] = {}
     predictions: dict[str, Any] = {}
     for pp in config.preprocessor:
         z = data.physics(pp.name, "test")
-        results[f"physics-{pp.name}"] = _metric_row(z, test_u, None)
+        results[f"physics-{pp.name}"] = _metric_row(z, test_u)
     for label in model_labels(config):
         directory = out / MODELS / label
         if not (directory / "model.json").exists():
@@ -158,14 +184,18 @@ def evaluate(config: ExperimentConfig, out: str | Path) -> Evaluation:
         z = None if model.preprocessor is None else data.physics(model.preprocessor.name, "test")
         stages = model.predict_stages(test_gm, z=z)
         predictions[label] = stages
-        refined = model.refiner is not None
-        results[label] = _metric_row(stages.mean, test_u, stages.std if refined else None)
+        results[label] = _metric_row(stages.mean, test_u)
+        if model.refiner is not None:
+            results[label].update(_coverage(model, stages, test_u))
         results[label]["best_epoch"] = model.history_.best_epoch
         results[label]["train_seconds"] = model.history_.seconds
     document = {
         "models": results,
         "output_names": list(data.output_names),
-        "sizes": data.sizes,
+        "sizes": {
+            **data.sizes,
+            "train": len(data.rows("train")[slice(config.training.train_records)]),
+        },
         "epochs": config.training.epochs,
     }
     (out / "metrics.json").write_text(json.dumps(document, indent=2))

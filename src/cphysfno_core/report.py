@@ -190,13 +190,16 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         "",
         "## Peak response and intervals",
         "",
-        "| model | peak R² (" + names[-1] + ") | 1σ coverage per DOF |",
-        "|---|---|---|",
+        "| model | peak R² (" + names[-1] + ") | 68 % interval coverage per DOF "
+        "| 90 % interval coverage per DOF |",
+        "|---|---|---|---|",
     ]
     for label, row in models.items():
-        cover = row.get("coverage_1sigma")
-        cover_text = ", ".join(f"{c:.2f}" for c in cover) if cover else "-"
-        lines.append(f"| {label} | {row['peak_r2']:.3f} | {cover_text} |")
+        cells = [
+            ", ".join(f"{c:.2f}" for c in row[key]) if key in row else "-"
+            for key in ("coverage_68", "coverage_90")
+        ]
+        lines.append(f"| {label} | {row['peak_r2']:.3f} | {' | '.join(cells)} |")
     if written:
         lines += ["", "## Figures", ""]
         lines += [f"![{p.stem}](figures/{p.name})" for p in written]

@@ -1,0 +1,177 @@
+"""Repeated runs of one experiment: seeds for the main table, and parametric sweeps.
+
+``cphysfno study CONFIG --out DIR`` generates one dataset, then trains and evaluates every
+run into its own folder::
+
+    DIR/dataset.h5
+    DIR/runs/table/seed-<s>/             every model of the config, training seed s
+    DIR/runs/<sweep>/<value>/seed-<s>/   the baseline and the sweep's C-Phys variants
+    DIR/study.json                       mean and std over seeds (see :func:`summarise`)
+
+A run whose ``metrics.json`` exists is done; an interrupted run continues from its
+checkpoints, so the same command resumes a study where it stopped.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from . import pipeline
+from .config import ExperimentConfig, parse_config
+from .errors import ConfigError
+
+RUNS = "runs"
+TABLE = "table"
+SUMMARY = "study.json"
+
+
+@dataclass(frozen=True)
+class Run:
+    """One training run of a study: its configuration and folder."""
+
+    group: str
+    value: Any
+    seed: int
+    config: ExperimentConfig
+    folder: Path
+
+
+def _set_field(document: dict[str, Any], path: str, value: Any) -> None:
+    section, field = path.split(".")
+    if section not in document or not isinstance(document[section], dict):
+        raise ConfigError(f"study sweep field '{path}': the config has no [{section}] section")
+    document[section][field] = value
+
+
+def plan(config: ExperimentConfig, out: Path) -> list[Run]:
+    """Every run of the study of ``config``, table runs first.
+
+    Raises:
+        ConfigError: ``config`` has no ``[study]`` section, or a sweep sets a field that
+            does not validate.
+    """
+    if config.study is None:
+        raise ConfigError("the config has no [study] section: add one (see examples/)")
+    study = config.study
+    runs = []
+    base = config.to_dict()
+    base.pop("study")
+    for seed in study.seeds:
+        document = json.loads(json.dumps(base))
+        document["training"]["seed"] = seed
+        runs.append(
+            Run(TABLE, None, seed, parse_config(document), out / RUNS / TABLE / f"seed-{seed}")
+        )
+    chosen = study.sweep_preprocessors
+    swept = [p for p in base["preprocessor"] if chosen is None or p["name"] in chosen]
+    for name, sweep in study.sweeps.items():
+        if sweep.field.split(".")[0] in ("data", "structure", "ground_motion", "preprocessor"):
+            raise ConfigError(
+                f"study sweep '{name}' sets {sweep.field}: the runs share one dataset, so a "
+                "sweep may change training, operator or refiner fields only (for the "
+                "training size, sweep training.train_records)"
+            )
+        for value in sweep.values:
+            for seed in study.seeds:
+                document = json.loads(json.dumps(base))
+                document["preprocessor"] = swept
+                document.pop("refiner", None)
+                document["training"]["seed"] = seed
+                _set_field(document, sweep.field, value)
+                try:
+                    run_config = parse_config(document)
+                except ConfigError as error:
+                    raise ConfigError(f"study sweep '{name}' = {value!r}: {error}") from None
+                folder = out / RUNS / name / str(value) / f"seed-{seed}"
+                runs.append(Run(name, value, seed, run_config, folder))
+    return runs
+
+
+def run_study(config: ExperimentConfig, out: str | Path) -> dict[str, Any]:
+    """Generate the dataset, run every run not yet done, write and return the summary.
+
+    Every run shares ``out/dataset.h5`` (a sweep may not change the data).
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
+    runs = plan(config, out)
+    pipeline.generate(config, out)
+    dataset = out / pipeline.DATASET
+    for number, run in enumerate(runs, start=1):
+        if (run.folder / "metrics.json").exists():
+            continue
+        value = "" if run.value is None else f" = {run.value}"
+        pipeline.say(f"study run {number}/{len(runs)}: {run.group}{value}, seed {run.seed}")
+        run.folder.mkdir(parents=True, exist_ok=True)
+        pipeline.train(run.config, run.folder, resume=True, dataset=dataset)
+        evaluation = pipeline.evaluate(run.config, run.folder, dataset=dataset)
+        if run.group == TABLE and run.seed == config.study.seeds[0]:
+            from .report import write_report
+
+            write_report(run.config, evaluation, run.folder)
+    summary = summarise(config, runs)
+    (out / SUMMARY).write_text(json.dumps(summary, indent=2))
+    return summary
+
+
+def device() -> str:
+    """Where training ran: the CUDA device's name, or the CPU and its thread count."""
+    if torch.cuda.is_available():
+        return torch.cuda.get_device_name(0)
+    return f"CPU ({platform.processor() or platform.machine()}, {torch.get_num_threads()} threads)"
+
+
+def _mean_std(rows: list[list[float]]) -> dict[str, list[float]]:
+    values = np.asarray(rows, dtype=np.float64)
+    return {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()}
+
+
+def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
+    """The study's results from the runs' ``metrics.json`` files.
+
+    Returns:
+        ``models``: label -> ``{"rel_l2": {"mean", "std"}, "rmse": {...}}`` per DOF over the
+        table's seeds (standard deviation with ``ddof = 0``), plus ``coverage_68`` and
+        ``coverage_90`` likewise for refined models; ``sweeps``: name -> field, values and
+        label -> value -> per-seed ``rel_l2`` per DOF; and the seeds, epochs, split sizes,
+        output names and device.
+    """
+    documents = {run.folder: json.loads((run.folder / "metrics.json").read_text()) for run in runs}
+    table = [documents[run.folder] for run in runs if run.group == TABLE]
+    models: dict[str, dict[str, Any]] = {}
+    for label in table[0]["models"]:
+        rows = [document["models"][label] for document in table]
+        models[label] = {
+            key: _mean_std([row[key] for row in rows])
+            for key in ("rel_l2", "rmse", "coverage_68", "coverage_90")
+            if key in rows[0]
+        }
+    sweeps: dict[str, Any] = {}
+    for name, sweep in config.study.sweeps.items():
+        by_label: dict[str, dict[str, list]] = {}
+        for run in (r for r in runs if r.group == name):
+            for label, row in documents[run.folder]["models"].items():
+                by_label.setdefault(label, {}).setdefault(str(run.value), []).append(row["rel_l2"])
+        sweeps[name] = {
+            "field": sweep.field,
+            "label": sweep.label or sweep.field,
+            "values": sweep.values,
+            "rel_l2": by_label,
+        }
+    return {
+        "models": models,
+        "sweeps": sweeps,
+        "seeds": list(config.study.seeds),
+        "epochs": config.training.epochs,
+        "sizes": table[0]["sizes"],
+        "output_names": table[0]["output_names"],
+        "device": device(),
+    }

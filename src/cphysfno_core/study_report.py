@@ -1,0 +1,100 @@
+"""``study.md``: the study's table as mean ± std over seeds beside the paper's, interval
+coverage, and the sweep figures."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from . import figures
+from .config import ExperimentConfig
+from .report import PAPER_EXAMPLE1
+from .study import RUNS, TABLE
+
+
+def _table(summary: dict[str, Any], metric: str, digits: int, paper: dict | None) -> list[str]:
+    names = summary["output_names"]
+    index = 0 if metric == "rmse" else 1
+    lines = ["| model | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
+    for label, row in summary["models"].items():
+        mean, std = row[metric]["mean"], row[metric]["std"]
+        cells = [f"{m:.{digits}f} ± {s:.{digits}f}" for m, s in zip(mean, std, strict=True)]
+        if paper and label in paper:
+            cells = [
+                f"{c} ({p:.{digits}f})" for c, p in zip(cells, paper[label][index], strict=True)
+            ]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _coverage(summary: dict[str, Any]) -> list[str]:
+    rows = {k: v for k, v in summary["models"].items() if "coverage_68" in v}
+    if not rows:
+        return []
+    lines = [
+        "",
+        "## Interval coverage (test split, mean over seeds)",
+        "",
+        "| model | 68 % interval, per DOF | 90 % interval, per DOF |",
+        "|---|---|---|",
+    ]
+    for label, row in rows.items():
+        cells = [
+            ", ".join(f"{c:.3f}" for c in row[key]["mean"])
+            for key in ("coverage_68", "coverage_90")
+        ]
+        lines.append(f"| {label} | {cells[0]} | {cells[1]} |")
+    return lines
+
+
+def _panels(n_outputs: int) -> list[int]:
+    """The outputs with a panel in sweep figures: first, middle, last (paper: 1, 3, 5)."""
+    return sorted({0, n_outputs // 2, n_outputs - 1})
+
+
+def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: str | Path) -> Path:
+    """Write ``out/study.md`` and ``out/figures/sweep-<name>.png``; return the report path."""
+    out = Path(out)
+    paper = PAPER_EXAMPLE1 if config.output.paper_reference == "example1" else None
+    names = summary["output_names"]
+    sizes = summary["sizes"]
+    lines = [
+        "# cphysfno study",
+        "",
+        f"- structure `{config.structure.name}`, ground motion `{config.ground_motion.name}`, "
+        f"operator `{config.operator.name}` {config.operator.params}",
+        f"- {len(summary['seeds'])} training seeds {summary['seeds']}, {summary['epochs']} "
+        f"epochs, {sizes['train']} / {sizes['val']} / {sizes['test']} records, "
+        f"trained on {summary['device']}",
+        "- cells: mean ± standard deviation over seeds; `physics-*` rows are z alone",
+    ]
+    if paper:
+        lines.append(
+            "- in parentheses: the paper's Table 1 (10 seeds, 100 epochs, 400/100/200 records)"
+        )
+    lines += ["", "## Relative L2 error (test split)", "", *_table(summary, "rel_l2", 4, paper)]
+    lines += ["", "## RMSE (m, test split)", "", *_table(summary, "rmse", 4, paper)]
+    lines += _coverage(summary)
+    if summary["sweeps"]:
+        directory = out / "figures"
+        directory.mkdir(parents=True, exist_ok=True)
+        lines += ["", "## Parametric sweeps", ""]
+        for name, sweep in summary["sweeps"].items():
+            path = figures.sweep_boxes(
+                sweep["values"],
+                sweep["rel_l2"],
+                _panels(len(names)),
+                names,
+                sweep["label"],
+                directory / f"sweep-{name}.png",
+            )
+            lines.append(f"![{name}](figures/{path.name})")
+    first = f"{RUNS}/{TABLE}/seed-{summary['seeds'][0]}"
+    lines += [
+        "",
+        f"Trajectories, peak scatter and distributions of seed {summary['seeds'][0]}: "
+        f"[{first}/report.md]({first}/report.md).",
+    ]
+    path = out / "study.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path

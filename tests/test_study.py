@@ -1,0 +1,168 @@
+"""``cphysfno study``: seeds and sweeps over one dataset, summarised by hand-checkable means,
+resumed without retraining, and refused with a clear message when ill-posed."""
+
+import json
+
+import numpy as np
+import pytest
+import toy_components
+
+import cphysfno_core as cp
+from cphysfno_core import pipeline, study
+from cphysfno_core.cli import main
+from cphysfno_core.registry import set_registry
+
+BASE = {
+    "structure": {"name": "toy-structure", "cubic": 40.0},
+    "ground_motion": {"name": "toy-source", "n_steps": 60, "scale": 0.5},
+    "preprocessor": [{"name": "toy-linear"}],
+    "operator": {"name": "toy-operator", "width": 4},
+    "refiner": {"name": "toy-refiner"},
+    "data": {"n_train": 10, "n_val": 4, "n_test": 5, "chunk_size": 10, "executor": "serial"},
+    "training": {"epochs": 2, "batch_size": 4},
+    "study": {
+        "seeds": [0, 1],
+        "sweeps": {
+            "size": {"field": "training.train_records", "values": [4, 10], "label": "records"},
+            "width": {"field": "operator.width", "values": [2, 4]},
+        },
+        "sweep_preprocessors": ["toy-linear"],
+    },
+}
+TOML = """
+[structure]
+name = "toy-structure"
+[ground_motion]
+name = "toy-source"
+n_steps = 60
+[[preprocessor]]
+name = "toy-linear"
+[operator]
+name = "toy-operator"
+width = 4
+[data]
+n_train = 8
+n_val = 3
+n_test = 4
+chunk_size = 8
+executor = "serial"
+[training]
+epochs = 1
+batch_size = 4
+[study]
+seeds = [3, 4]
+[study.sweeps.size]
+field = "training.train_records"
+values = [2, 8]
+"""
+
+
+def _config(**changes):
+    return cp.parse_config({**BASE, **changes})
+
+
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory):
+    """A study run once for the module, with the toy components registered."""
+    set_registry(cp.Registry(autoload=False, plugins=(toy_components,)))
+    out = tmp_path_factory.mktemp("study")
+    summary = study.run_study(_config(), out)
+    yield out, summary
+    set_registry(None)
+
+
+def test_the_summary_is_the_mean_and_std_of_the_table_runs(finished):
+    out, summary = finished
+    runs = [json.loads((out / f"runs/table/seed-{s}/metrics.json").read_text()) for s in (0, 1)]
+    label = "c-phystoy-operator-toy-linear"
+    per_seed = np.array([r["models"][label]["rel_l2"] for r in runs])
+    np.testing.assert_allclose(summary["models"][label]["rel_l2"]["mean"], per_seed.mean(0))
+    np.testing.assert_allclose(summary["models"][label]["rel_l2"]["std"], per_seed.std(0))
+    assert summary["models"]["physics-toy-linear"]["rmse"]["std"] == [0.0, 0.0]
+    refined = summary["models"]["refined-c-phystoy-operator-toy-linear"]
+    assert set(refined) == {"rel_l2", "rmse", "coverage_68", "coverage_90"}
+    assert summary["seeds"] == [0, 1] and summary["epochs"] == 2
+    assert summary["sizes"] == {"train": 10, "val": 4, "test": 5}
+    assert json.loads((out / "study.json").read_text()) == summary
+
+
+def test_sweeps_train_the_baseline_and_the_chosen_physics_per_value_and_seed(finished):
+    out, summary = finished
+    size = summary["sweeps"]["size"]
+    assert size["field"] == "training.train_records" and size["label"] == "records"
+    assert set(size["rel_l2"]) == {
+        "toy-operator",
+        "c-phystoy-operator-toy-linear",
+        "physics-toy-linear",
+    }
+    assert {v: len(seeds) for v, seeds in size["rel_l2"]["toy-operator"].items()} == {
+        "4": 2,
+        "10": 2,
+    }
+    small = json.loads((out / "runs/size/4/seed-1/metrics.json").read_text())
+    assert small["sizes"]["train"] == 4
+    saved = json.loads((out / "runs/width/2/seed-0/models/toy-operator/model.json").read_text())
+    assert saved["operator"]["width"] == 2
+    assert not (out / "runs/size/4/seed-0/models/refined-c-phystoy-operator-toy-linear").exists()
+
+
+def test_a_finished_study_resumes_without_training_and_reruns_only_what_is_missing(
+    finished, monkeypatch
+):
+    out, summary = finished
+    trained = []
+    original = pipeline.train
+    monkeypatch.setattr(pipeline, "train", lambda config, folder, **kw: trained.append(folder))
+    assert study.run_study(_config(), out) == summary
+    assert trained == []
+    (out / "runs/width/4/seed-1/metrics.json").unlink()
+    monkeypatch.setattr(
+        pipeline, "train", lambda *a, **kw: trained.append(a[1]) or original(*a, **kw)
+    )
+    study.run_study(_config(), out)
+    assert trained == [out / "runs/width/4/seed-1"]
+
+
+def test_the_cli_writes_the_report_with_sweep_figures(toy_registry, tmp_path, capsys):
+    path = tmp_path / "study.toml"
+    path.write_text(TOML)
+    assert main(["study", str(path), "--out", str(tmp_path / "out")]) == 0
+    printed = capsys.readouterr().out
+    assert "mean of 2 seeds" in printed and "c-phystoy-operator-toy-linear" in printed
+    report = (tmp_path / "out/study.md").read_text()
+    assert " ± " in report and "figures/sweep-size.png" in report
+    assert (tmp_path / "out/figures/sweep-size.png").stat().st_size > 10_000
+    assert (tmp_path / "out/runs/table/seed-3/report.md").exists()
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"study": None}, "no \\[study\\] section"),
+        (
+            {"study": {"sweeps": {"n": {"field": "data.n_train", "values": [4]}}}},
+            "runs share one dataset",
+        ),
+        (
+            {"study": {"sweeps": {"w": {"field": "operator.width", "values": [0]}}}},
+            "study sweep 'w' = 0: operator.width",
+        ),
+        (
+            {"study": {"sweeps": {"w": {"field": "optimizer.rate", "values": [1]}}}},
+            "no \\[optimizer\\] section",
+        ),
+    ],
+)
+def test_ill_posed_studies_are_refused_before_any_simulation(
+    toy_registry, tmp_path, change, message
+):
+    with pytest.raises(cp.ConfigError, match=message):
+        study.run_study(_config(**change), tmp_path)
+    assert not (tmp_path / "dataset.h5").exists()
+
+
+def test_train_records_beyond_the_training_split_is_refused(toy_registry):
+    with pytest.raises(cp.ConfigError, match="train_records = 11 exceeds data.n_train = 10"):
+        _config(training={"train_records": 11})
+    with pytest.raises(cp.ConfigError, match="sweep_preprocessors"):
+        _config(study={"sweep_preprocessors": ["els"]})
