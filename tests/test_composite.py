@@ -1,5 +1,6 @@
 import numpy as np
 import pytest
+import torch
 
 import cphysfno_core as cp
 
@@ -103,3 +104,42 @@ def test_targets_of_the_wrong_shape_are_refused(toy_data):
 def test_loading_a_folder_without_a_model_is_a_clear_error(tmp_path, toy_registry):
     with pytest.raises(cp.DatasetError, match="no readable model.json"):
         cp.CompositeModel.load(tmp_path)
+
+
+@pytest.mark.parametrize("residual", [False, True])
+@pytest.mark.parametrize("ground_motion_input", [False, True])
+def test_the_formulation_sets_the_operators_inputs_and_target(
+    toy_data, tmp_path, residual, ground_motion_input
+):
+    structure, gm, u = toy_data
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator=("toy-operator", {"width": 4}),
+        training={"batch_size": 4, "seed": 1},
+        formulation={"residual": residual, "ground_motion_input": ground_motion_input},
+    )
+    model.fit(gm[:12], u[:12], validation=(gm[12:16], u[12:16]), epochs=2, progress=None)
+    n_dof = u.shape[2]
+    assert model.operator_.in_channels == n_dof + 1 + ground_motion_input
+    stages = model.predict_stages(gm[16:])
+    expected_inputs = [stages.z]
+    if ground_motion_input:
+        expected_inputs.append(gm[16:].acceleration[:, :, None])
+    expected_inputs.append(np.broadcast_to(gm.time[None, :, None], (8, gm.n_steps, 1)))
+    x = torch.from_numpy(model.input_normalizer_.encode(np.concatenate(expected_inputs, axis=2)))
+    with torch.no_grad():
+        raw = model.output_normalizer_.decode_torch(model.operator_(x)).double().numpy()
+    expected = raw + stages.z if residual else raw
+    np.testing.assert_allclose(stages.operator_output, expected, rtol=1e-5, atol=1e-9)
+    target = u[:12] - model.physics(gm[:12]) if residual else u[:12]
+    np.testing.assert_allclose(model.output_normalizer_.mean, target.mean(axis=(0, 1)))
+    loaded = cp.CompositeModel.load(model.save(tmp_path / "model"))
+    assert loaded.formulation == model.formulation
+    np.testing.assert_array_equal(loaded.predict(gm[16:])[0], stages.mean)
+
+
+def test_the_baseline_refuses_a_formulation_on_z(toy_data):
+    structure, _, _ = toy_data
+    with pytest.raises(cp.ConfigError, match="the baseline operator has none"):
+        cp.compose(structure=structure, operator="toy-operator", formulation={"residual": True})

@@ -1,7 +1,14 @@
 """cphysfno: composite physics-neural operators for seismic response prediction."""
 
 from .composite import CompositeModel, Prediction, compose
-from .config import ComponentSpec, ExperimentConfig, TrainingConfig, load_config, parse_config
+from .config import (
+    ComponentSpec,
+    ExperimentConfig,
+    FormulationConfig,
+    TrainingConfig,
+    load_config,
+    parse_config,
+)
 from .data import Dataset, load_dataset
 from .errors import (
     CapabilityError,
@@ -36,6 +43,7 @@ __all__ = [
     "Dataset",
     "ExperimentConfig",
     "Prediction",
+    "FormulationConfig",
     "TrainingConfig",
     "compose",
     "generate_dataset",

@@ -15,7 +15,7 @@ import numpy as np
 import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from .config import ComponentSpec, TrainingConfig
+from .config import ComponentSpec, FormulationConfig, TrainingConfig
 from .errors import ConfigError, DatasetError, InputError, NotFittedError
 from .interfaces import (
     NeuralOperator,
@@ -51,6 +51,7 @@ class SavedModel(BaseModel):
     refiner: dict[str, Any] | None
     operator: dict[str, Any]
     training: dict[str, Any]
+    formulation: dict[str, Any] = Field(default_factory=dict)
     history: dict[str, Any] = Field(default_factory=dict)
 
     @field_validator("structure", "preprocessor", "refiner", "operator")
@@ -102,7 +103,8 @@ def _spec_of(component: Any) -> dict[str, Any] | None:
 @dataclass
 class Prediction:
     """Every stage of a composite prediction, each ``[n, T, dof]`` in m (z None for a
-    baseline without physics)."""
+    baseline without physics); ``operator_output`` is the operator's prediction û, z
+    included for a residual formulation."""
 
     z: np.ndarray | None
     operator_output: np.ndarray
@@ -126,6 +128,7 @@ class CompositeModel:
         preprocessor: PhysicsPreprocessor | None = None,
         refiner: Refiner | None = None,
         training: TrainingConfig | None = None,
+        formulation: FormulationConfig | None = None,
     ) -> None:
         if preprocessor is not None and structure is None:
             raise ConfigError("a physics preprocessor needs the structure it simplifies")
@@ -133,6 +136,12 @@ class CompositeModel:
         self.preprocessor = preprocessor
         self.refiner = refiner
         self.training = training or TrainingConfig()
+        self.formulation = formulation or FormulationConfig()
+        if preprocessor is None and self.formulation != FormulationConfig():
+            raise ConfigError(
+                "residual and ground_motion_input work on a physics response: the baseline "
+                "operator has none (it always sees a_g)"
+            )
         if isinstance(operator, NeuralOperator):
             self.operator_spec = ComponentSpec.of(operator.name, operator.get_params())
             self.operator_ = operator
@@ -156,14 +165,20 @@ class CompositeModel:
         return self.preprocessor.transform(motions)
 
     def _inputs(self, motions: GroundMotions, z: np.ndarray | None) -> np.ndarray:
-        signal = motions.acceleration[:, :, None] if z is None else z
-        if signal.shape[:2] != motions.acceleration.shape:
-            raise InputError(
-                f"physics response {signal.shape} does not match motions "
-                f"{motions.acceleration.shape}"
-            )
-        time = np.broadcast_to(motions.time[None, :, None], (*signal.shape[:2], 1))
-        return np.concatenate([signal, time], axis=2)
+        """Operator input ``[n, T, channels]``: ``[a_g, t]`` for the baseline, ``[z, t]``
+        for a C-Phys model, ``[z, a_g, t]`` with ``formulation.ground_motion_input``."""
+        ag = motions.acceleration[:, :, None]
+        if z is not None and z.shape[:2] != ag.shape[:2]:
+            raise InputError(f"physics response {z.shape} does not match motions {ag.shape[:2]}")
+        channels = [ag] if z is None else [z]
+        if z is not None and self.formulation.ground_motion_input:
+            channels.append(ag)
+        channels.append(np.broadcast_to(motions.time[None, :, None], ag.shape))
+        return np.concatenate(channels, axis=2)
+
+    def _target(self, u: np.ndarray, z: np.ndarray | None) -> np.ndarray:
+        """What the operator learns: ``u``, or ``u - z`` with ``formulation.residual``."""
+        return u - z if self.formulation.residual else u
 
     def _build_operator(self, in_channels: int, out_channels: int) -> NeuralOperator:
         spec = self.operator_spec
@@ -216,28 +231,29 @@ class CompositeModel:
             validation_z = self.physics(val_motions) if validation_z is None else validation_z
         x_train = self._inputs(motions, z)
         x_val = self._inputs(val_motions, validation_z)
+        target = self._target(u, z)
         self.input_normalizer_ = Normalizer.fit(x_train)
-        self.output_normalizer_ = Normalizer.fit(u)
+        self.output_normalizer_ = Normalizer.fit(target)
         torch.manual_seed(self.training.seed)
         if self.operator_ is None:
             self.operator_ = self._build_operator(x_train.shape[2], u.shape[2])
         self.history_: TrainingHistory = train_operator(
             self.operator_,
             self.input_normalizer_.encode(x_train),
-            u,
+            target,
             self.input_normalizer_.encode(x_val),
-            val_u,
+            self._target(val_u, validation_z),
             self.output_normalizer_,
             self.training,
             progress,
             checkpoint=checkpoint,
             resume=resume,
         )
-        val_hat = self._run_operator(x_val)
+        val_hat = self._run_operator(x_val, validation_z)
         self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_u) ** 2, axis=(0, 1)))
         if self.refiner is not None:
             self.refiner.fit(
-                z, self._run_operator(x_train), u, np.random.default_rng(self.training.seed)
+                z, self._run_operator(x_train, z), u, np.random.default_rng(self.training.seed)
             )
         return self
 
@@ -256,7 +272,7 @@ class CompositeModel:
         refined = copy.copy(self)
         refined.refiner = _resolve("refiner", refiner)
         z = self.physics(motions) if z is None else z
-        u_hat = self._run_operator(self._inputs(motions, z))
+        u_hat = self._run_operator(self._inputs(motions, z), z)
         rng = np.random.default_rng(self.training.seed if seed is None else seed)
         refined.refiner.fit(z, u_hat, self._check_targets(motions, u, "u"), rng)
         return refined
@@ -282,15 +298,21 @@ class CompositeModel:
         if getattr(self, "operator_", None) is None or not hasattr(self, "input_normalizer_"):
             raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
 
-    def _run_operator(self, inputs: np.ndarray) -> np.ndarray:
-        """Decoded operator output ``[n, T, dof]`` (float64, m) for un-normalised
-        ``inputs [n, T, in]``, in chunks of :data:`PREDICT_CHUNK` records."""
-        return self._operator_chunks(inputs.shape[0], inputs.shape[1], lambda rows: inputs[rows])
+    def _run_operator(self, inputs: np.ndarray, z: np.ndarray | None) -> np.ndarray:
+        """The operator's prediction ``û [n, T, dof]`` (float64, m) for un-normalised
+        ``inputs [n, T, in]`` and physics response ``z``, in chunks of
+        :data:`PREDICT_CHUNK` records."""
+        return self._operator_chunks(inputs.shape[0], inputs.shape[1], lambda rows: inputs[rows], z)
 
     def _operator_chunks(
-        self, n: int, steps: int, inputs_of: Callable[[slice], np.ndarray]
+        self,
+        n: int,
+        steps: int,
+        inputs_of: Callable[[slice], np.ndarray],
+        z: np.ndarray | None,
     ) -> np.ndarray:
-        """Decoded operator output ``[n, steps, dof]`` (float64, m), written chunk by chunk.
+        """The operator's prediction ``û [n, steps, dof]`` (float64, m), chunk by chunk:
+        its decoded output, plus ``z`` with ``formulation.residual``.
 
         ``inputs_of(rows)`` gives the un-normalised inputs ``[len(rows), steps, in]`` of a
         slice of records, so that no input array larger than a chunk need exist.
@@ -302,6 +324,8 @@ class CompositeModel:
                 rows = slice(start, start + PREDICT_CHUNK)
                 x = torch.from_numpy(self.input_normalizer_.encode(inputs_of(rows)))
                 out[rows] = self.output_normalizer_.decode_torch(self.operator_(x)).numpy()
+                if self.formulation.residual:
+                    out[rows] += z[rows]
         return out
 
     def predict_stages(self, motions: GroundMotions, z: np.ndarray | None = None) -> Prediction:
@@ -318,7 +342,7 @@ class CompositeModel:
         if z is not None and z.shape[:2] != shape:
             raise InputError(f"physics response {z.shape} does not match motions {shape}")
         operator_output = self._operator_chunks(
-            shape[0], shape[1], lambda rows: self._inputs(motions[rows], _rows_of(z, rows))
+            shape[0], shape[1], lambda rows: self._inputs(motions[rows], _rows_of(z, rows)), z
         )
         if self.refiner is not None:
             mean, std = self.refiner.predict(z, operator_output)
@@ -352,6 +376,7 @@ class CompositeModel:
                 "out_channels": self.operator_.out_channels,
             },
             "training": self.training.model_dump(mode="json"),
+            "formulation": self.formulation.model_dump(mode="json"),
             "history": self.history_.to_dict(),
         }
         arrays = {
@@ -413,6 +438,7 @@ class CompositeModel:
             preprocessor=build("preprocessor", saved.preprocessor),
             refiner=build("refiner", saved.refiner),
             training=TrainingConfig.model_validate(saved.training),
+            formulation=FormulationConfig.model_validate(saved.formulation),
         )
         input_mean, input_std, output_mean, output_std, validation_rmse = normalizers
         model.input_normalizer_ = Normalizer(input_mean, input_std)
@@ -435,15 +461,19 @@ def compose(
     preprocessor: PartLike | None = None,
     refiner: PartLike | None = None,
     training: TrainingConfig | dict[str, Any] | None = None,
+    formulation: FormulationConfig | dict[str, Any] | None = None,
 ) -> CompositeModel:
     """Assemble an untrained :class:`CompositeModel` from parts given by name,
     ``(name, params)``, or as instances, mixed freely.
 
     The preprocessor is fitted to the structure here, so a missing capability fails now,
-    before any training.
+    before any training. ``formulation`` (see :class:`FormulationConfig`) chooses a
+    residual target or an extra a_g input channel.
     """
     if isinstance(training, dict):
         training = TrainingConfig.model_validate(training)
+    if isinstance(formulation, dict):
+        formulation = FormulationConfig.model_validate(formulation)
     op = operator if isinstance(operator, NeuralOperator) else _as_spec(operator)
     if isinstance(op, ComponentSpec):
         validate_params(get_registry().get("operator", op.name).Params, op.params, "operator")
@@ -453,4 +483,5 @@ def compose(
         preprocessor=_resolve("preprocessor", preprocessor),
         refiner=_resolve("refiner", refiner),
         training=training,
+        formulation=formulation,
     )

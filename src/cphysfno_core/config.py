@@ -94,6 +94,20 @@ class TrainingConfig(_Strict):
     )
 
 
+class FormulationConfig(_Strict):
+    """How a C-Phys model's operator works on the physics response z (the baseline, which
+    has no z, ignores it). The paper's formulation is the default: ``[z, t] -> u``."""
+
+    residual: bool = Field(
+        False,
+        description="the operator learns the correction u - z and the prediction is z plus "
+        "its output",
+    )
+    ground_motion_input: bool = Field(
+        False, description="feed a_g as an input channel beside z and t"
+    )
+
+
 class OutputConfig(_Strict):
     """What the run trains and writes."""
 
@@ -137,6 +151,7 @@ class ExperimentConfig(_Strict):
     refiner: ComponentSpec | None = None
     data: DataConfig = Field(default_factory=DataConfig)
     training: TrainingConfig = Field(default_factory=TrainingConfig)
+    formulation: FormulationConfig = Field(default_factory=FormulationConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
     study: StudyConfig | None = None
 

@@ -88,6 +88,7 @@ def train(
             if pp is None
             else registry.create("preprocessor", pp.name, **pp.params),
             training=config.training,
+            formulation=None if pp is None else config.formulation,
         )
         z_train = z_val = None
         if pp is not None:
