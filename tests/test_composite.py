@@ -143,3 +143,18 @@ def test_the_baseline_refuses_a_formulation_on_z(toy_data):
     structure, _, _ = toy_data
     with pytest.raises(cp.ConfigError, match="the baseline operator has none"):
         cp.compose(structure=structure, operator="toy-operator", formulation={"residual": True})
+
+
+def test_a_refiner_calibrated_on_validation_is_fitted_on_the_validation_split(toy_data):
+    structure, gm, u = toy_data
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator=("toy-operator", {"width": 4}),
+        refiner="toy-calibrated-refiner",
+        training={"batch_size": 4},
+    )
+    model.fit(gm[:12], u[:12], validation=(gm[12:17], u[12:17]), epochs=1, progress=None)
+    assert model.refiner.fitted_on == 5
+    refined = model.refine("toy-calibrated-refiner", gm[12:15], u[12:15])
+    assert refined.refiner.fitted_on == 3

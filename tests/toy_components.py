@@ -219,6 +219,18 @@ class ToyRefiner(cp.Refiner):
         self.offset_, self.sigma_ = state["offset"], state["sigma"]
 
 
+class CalibratedToyRefiner(ToyRefiner):
+    """The toy refiner, calibrated on the validation split; ``fitted_on`` keeps the number
+    of records it was fitted on."""
+
+    name = "toy-calibrated-refiner"
+    calibration_split = "validation"
+
+    def fit(self, z, u_hat, u, rng):
+        self.fitted_on = z.shape[0]
+        return super().fit(z, u_hat, u, rng)
+
+
 @cp.hookimpl
 def cphysfno_structures():
     return [ToyStructure, DyingOnceStructure, FragileStructure, WrongShapeStructure]
@@ -241,4 +253,4 @@ def cphysfno_operators():
 
 @cp.hookimpl
 def cphysfno_refiners():
-    return [ToyRefiner]
+    return [ToyRefiner, CalibratedToyRefiner]

@@ -252,9 +252,14 @@ class CompositeModel:
         val_hat = self._run_operator(x_val, validation_z)
         self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_u) ** 2, axis=(0, 1)))
         if self.refiner is not None:
-            self.refiner.fit(
-                z, self._run_operator(x_train, z), u, np.random.default_rng(self.training.seed)
+            calibration = (
+                (x_val, validation_z, val_u)
+                if self.refiner.calibration_split == "validation"
+                else (x_train, z, u)
             )
+            x, z_fit, u_fit = calibration
+            rng = np.random.default_rng(self.training.seed)
+            self.refiner.fit(z_fit, self._run_operator(x, z_fit), u_fit, rng)
         return self
 
     def refine(
@@ -265,7 +270,9 @@ class CompositeModel:
         z: np.ndarray | None = None,
         seed: int | None = None,
     ) -> CompositeModel:
-        """A copy of this trained model with ``refiner`` fitted on ``(motions, u)``."""
+        """A copy of this trained model with ``refiner`` fitted on ``(motions, u)``: the
+        training split, or the validation split for a refiner whose
+        ``calibration_split`` is ``"validation"``."""
         self._check_fitted()
         if self.preprocessor is None:
             raise ConfigError("a refiner works on the physics response z: the baseline has none")

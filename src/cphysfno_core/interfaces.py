@@ -10,7 +10,7 @@ attributes ending in ``_``.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar, Literal, Protocol
 
 import numpy as np
 import scipy.stats
@@ -246,9 +246,16 @@ class NeuralOperator(torch.nn.Module):
 
 
 class Refiner(Component, ABC):
-    """Post-processing of the operator output: refined mean and standard deviation."""
+    """Post-processing of the operator output: refined mean and standard deviation.
+
+    Attributes:
+        calibration_split: the split :meth:`fit` is given: ``"training"`` (as the paper's
+            linear regression) or ``"validation"`` (a refiner whose intervals must be
+            calibrated on data the operator was not fitted to).
+    """
 
     kind = "refiner"
+    calibration_split: ClassVar[Literal["training", "validation"]] = "training"
 
     @abstractmethod
     def fit(

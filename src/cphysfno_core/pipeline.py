@@ -116,9 +116,13 @@ def train(
             checkpoint.unlink()
         saved[model.label] = directory
         if pp is not None and config.refiner is not None:
-            refined = model.refine(
-                (config.refiner.name, config.refiner.params), train_gm, train_u, z=z_train
+            refiner = registry.create("refiner", config.refiner.name, **config.refiner.params)
+            split = (
+                (val_gm, val_u, z_val)
+                if refiner.calibration_split == "validation"
+                else (train_gm, train_u, z_train)
             )
+            refined = model.refine(refiner, split[0], split[1], z=split[2])
             saved[refined.label] = _replace_dir(refined, out / MODELS / refined.label)
     return saved
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cphysfno_refiners import LinearRegressionRefiner, linear_regression
+from cphysfno_refiners import LinearRegressionRefiner, arrays
 
 from cphysfno_core import ConfigError, InputError, NotFittedError, Registry
 
@@ -163,7 +163,7 @@ def test_registry_creates_it_by_name() -> None:
 
 
 def test_predict_in_record_blocks_equals_the_formula(monkeypatch) -> None:
-    monkeypatch.setattr(linear_regression, "BLOCK_ELEMENTS", 40)
+    monkeypatch.setattr(arrays, "BLOCK_ELEMENTS", 40)
     refiner = LinearRegressionRefiner()
     refiner.load_state_dict({"weights": TRUE_WEIGHTS, "sigma": TRUE_SIGMA})
     rng = np.random.default_rng(9)
@@ -175,7 +175,7 @@ def test_predict_in_record_blocks_equals_the_formula(monkeypatch) -> None:
 
 
 def test_non_finite_value_in_a_later_block_names_its_record(monkeypatch) -> None:
-    monkeypatch.setattr(linear_regression, "BLOCK_ELEMENTS", 20)
+    monkeypatch.setattr(arrays, "BLOCK_ELEMENTS", 20)
     refiner = LinearRegressionRefiner()
     refiner.load_state_dict({"weights": TRUE_WEIGHTS[:1], "sigma": TRUE_SIGMA[:1]})
     z = np.zeros((9, 10, 1))

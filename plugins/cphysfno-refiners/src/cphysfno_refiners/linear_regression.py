@@ -11,12 +11,10 @@ import numpy as np
 from pydantic import Field
 
 from cphysfno_core import InputError, NotFittedError, Params, Refiner
-from cphysfno_core.signals import check_finite
+
+from .arrays import as_responses, record_blocks
 
 N_WEIGHTS = 3
-BLOCK_ELEMENTS = 2**18
-"""Elements (float64) of the record blocks that :meth:`LinearRegressionRefiner.predict` and
-the finiteness check work on, so that their temporaries stay a few MiB whatever ``n``."""
 
 
 class LinearRegressionParams(Params):
@@ -59,7 +57,7 @@ class LinearRegressionRefiner(Refiner):
         Returns:
             ``self``.
         """
-        z, u_hat, u = _as_responses(self.name, z=z, u_hat=u_hat, u=u)
+        z, u_hat, u = as_responses(self.name, z=z, u_hat=u_hat, u=u)
         n, steps, dof = z.shape
         available = n * steps
         if available <= N_WEIGHTS:
@@ -90,13 +88,13 @@ class LinearRegressionRefiner(Refiner):
             u_hat: ``[n, T, dof]`` operator predictions in m.
         """
         self._check_fitted()
-        z, u_hat = _as_responses(self.name, z=z, u_hat=u_hat)
+        z, u_hat = as_responses(self.name, z=z, u_hat=u_hat)
         dof = self.weights_.shape[0]
         if z.shape[-1] != dof:
             raise InputError(f"{self.name}: fitted for {dof} DOFs, got arrays of shape {z.shape}")
         w = self.weights_
         mean = np.empty(z.shape)
-        for rows in _record_blocks(z.shape):
+        for rows in record_blocks(z.shape):
             block = mean[rows]
             np.multiply(w[:, 1], z[rows], out=block)
             block += w[:, 0]
@@ -130,24 +128,3 @@ class LinearRegressionRefiner(Refiner):
             raise NotFittedError(
                 f"{self.name} refiner is not fitted: call fit() or load_state_dict() first"
             )
-
-
-def _as_responses(who: str, **arrays: np.ndarray) -> list[np.ndarray]:
-    """The arrays as float64, or :class:`InputError` unless all are ``[n, T, dof]`` alike."""
-    converted = {name: np.asarray(a, dtype=np.float64) for name, a in arrays.items()}
-    shapes = ", ".join(f"{name} {a.shape}" for name, a in converted.items())
-    first = next(iter(converted.values()))
-    if first.ndim != 3 or any(a.shape != first.shape for a in converted.values()):
-        raise InputError(f"{who}: expected arrays of one shape [n, T, dof], got {shapes}")
-    for name, a in converted.items():
-        for rows in _record_blocks(a.shape):
-            if not np.isfinite(a[rows]).all():
-                check_finite(a, name)
-    return list(converted.values())
-
-
-def _record_blocks(shape: tuple[int, ...]) -> list[slice]:
-    """Slices of whole records of about :data:`BLOCK_ELEMENTS` elements, covering ``shape[0]``."""
-    per_record = max(1, int(np.prod(shape[1:])))
-    step = max(1, BLOCK_ELEMENTS // per_record)
-    return [slice(start, start + step) for start in range(0, shape[0], step)]
