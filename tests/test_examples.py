@@ -33,6 +33,17 @@ def test_paper_config_has_the_papers_sizes():
     assert [p.name for p in config.preprocessor] == ["els", "modal", "relaxed"]
 
 
+def test_the_study_config_is_the_paper_experiment_with_its_seeds_and_sweeps():
+    paper = cp.load_config(EXAMPLES / "bouc-wen.toml").to_dict()
+    assert paper.pop("study") is None
+    study = cp.load_config(EXAMPLES / "bouc-wen-study.toml").to_dict()
+    sweeps = study.pop("study")
+    assert study == paper
+    assert sweeps["seeds"] == list(range(10))
+    assert sweeps["sweeps"]["training_size"]["values"][-1] == 400
+    assert sweeps["sweeps"]["fourier_layers"]["field"] == "operator.layers"
+
+
 def test_tiny_example1_runs_end_to_end(tmp_path, capsys):
     data = tomllib.loads((EXAMPLES / "bouc-wen-demo.toml").read_text())
     data["ground_motion"]["duration"] = 6.0
