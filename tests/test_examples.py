@@ -23,7 +23,7 @@ def test_every_example_config_is_valid():
 def test_paper_config_has_the_papers_sizes():
     config = cp.load_config(EXAMPLES / "bouc-wen.toml")
     assert (config.data.n_train, config.data.n_val, config.data.n_test) == (400, 100, 200)
-    assert config.operator.params == {
+    assert config.operator[0].params == {
         "layers": 6,
         "modes": 32,
         "width": 64,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core import generation
+from cphysfno_core import generation, pipeline
 from cphysfno_core.cli import main
 from cphysfno_core.simulation import simulate_chunk
 
@@ -80,6 +80,35 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
     ):
         assert (out / "figures" / f"{figure}.png").stat().st_size > 1000
         assert f"figures/{figure}.png" in report
+
+
+def test_every_operator_of_the_config_gets_every_model(toy_registry, tmp_path):
+    text = CONFIG.format(executor="serial").replace(
+        '[operator]\nname = "toy-operator"\nwidth = 6\n',
+        '[[operator]]\nname = "toy-operator"\nwidth = 6\n\n'
+        '[[operator]]\nname = "other-toy-operator"\nwidth = 3\n',
+    )
+    path = tmp_path / "two.toml"
+    path.write_text(text)
+    config = cp.load_config(path)
+    expected = [
+        "toy-operator",
+        "c-phystoy-operator-toy-linear",
+        "refined-c-phystoy-operator-toy-linear",
+        "other-toy-operator",
+        "c-physother-toy-operator-toy-linear",
+        "refined-c-physother-toy-operator-toy-linear",
+    ]
+    assert pipeline.model_labels(config) == expected
+    evaluation = pipeline.run(config, tmp_path / "out")
+    assert set(evaluation.metrics) == {*expected, "physics-toy-linear"}
+    saved = json.loads((tmp_path / "out/models/other-toy-operator/model.json").read_text())
+    assert saved["operator"]["width"] == 3
+    assert "`other-toy-operator` {'width': 3}" in (tmp_path / "out/report.md").read_text()
+    assert cp.parse_config(config.to_dict()).to_dict() == config.to_dict()
+    duplicate = {**config.to_dict(), "operator": [{"name": "toy-operator"}] * 2}
+    with pytest.raises(cp.ConfigError, match="each operator may appear once"):
+        cp.parse_config(duplicate)
 
 
 def test_physics_row_is_the_preprocessor_error(toy_registry, tmp_path):

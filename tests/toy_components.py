@@ -197,6 +197,12 @@ class ToyOperator(cp.NeuralOperator):
         return self.net(x)
 
 
+class OtherToyOperator(ToyOperator):
+    """The toy operator under another name, for configs with several operators."""
+
+    name = "other-toy-operator"
+
+
 class ToyRefiner(cp.Refiner):
     """Mean = operator output + a constant offset per DOF; std = residual std."""
 
@@ -248,7 +254,7 @@ def cphysfno_preprocessors():
 
 @cp.hookimpl
 def cphysfno_operators():
-    return [ToyOperator]
+    return [ToyOperator, OtherToyOperator]
 
 
 @cp.hookimpl

@@ -147,7 +147,11 @@ class ExperimentConfig(_Strict):
     structure: ComponentSpec
     ground_motion: ComponentSpec
     preprocessor: list[ComponentSpec] = Field(default_factory=list)
-    operator: ComponentSpec
+    operator: list[ComponentSpec] = Field(
+        min_length=1,
+        description="one [operator] table, or several [[operator]] tables: every model is "
+        "trained with each operator",
+    )
     refiner: ComponentSpec | None = None
     data: DataConfig = Field(default_factory=DataConfig)
     training: TrainingConfig = Field(default_factory=TrainingConfig)
@@ -155,7 +159,7 @@ class ExperimentConfig(_Strict):
     output: OutputConfig = Field(default_factory=OutputConfig)
     study: StudyConfig | None = None
 
-    @field_validator("preprocessor", mode="before")
+    @field_validator("preprocessor", "operator", mode="before")
     @classmethod
     def _one_or_many(cls, value: Any) -> Any:
         return [value] if isinstance(value, dict) else value
@@ -165,6 +169,9 @@ class ExperimentConfig(_Strict):
         names = [p.name for p in self.preprocessor]
         if len(set(names)) != len(names):
             raise ValueError(f"each preprocessor may appear once, got {names}")
+        operators = [o.name for o in self.operator]
+        if len(set(operators)) != len(operators):
+            raise ValueError(f"each operator may appear once, got {operators}")
         if not names and not self.output.baseline:
             raise ValueError("nothing to train: add a [[preprocessor]] or set output.baseline")
         if self.study is not None and self.study.sweep_preprocessors is not None:
@@ -185,7 +192,8 @@ class ExperimentConfig(_Strict):
         )
         data["structure"] = self.structure.to_dict()
         data["ground_motion"] = self.ground_motion.to_dict()
-        data["operator"] = self.operator.to_dict()
+        operators = [o.to_dict() for o in self.operator]
+        data["operator"] = operators[0] if len(operators) == 1 else operators
         data["preprocessor"] = [p.to_dict() for p in self.preprocessor]
         if self.refiner is not None:
             data["refiner"] = self.refiner.to_dict()
@@ -195,7 +203,6 @@ class ExperimentConfig(_Strict):
 _SECTION_KIND = {
     "structure": "structure",
     "ground_motion": "ground_motion",
-    "operator": "operator",
     "refiner": "refiner",
 }
 
@@ -208,9 +215,11 @@ def check_components(config: ExperimentConfig, registry: Registry | None = None)
         spec = getattr(config, section)
         if spec is not None:
             sections.append((section, kind, spec))
-    for i, spec in enumerate(config.preprocessor):
-        where = "preprocessor" if len(config.preprocessor) == 1 else f"preprocessor[{i}]"
-        sections.append((where, "preprocessor", spec))
+    for section in ("preprocessor", "operator"):
+        specs = getattr(config, section)
+        for i, spec in enumerate(specs):
+            where = section if len(specs) == 1 else f"{section}[{i}]"
+            sections.append((where, section, spec))
     for where, kind, spec in sections:
         try:
             cls = registry.get(kind, spec.name)

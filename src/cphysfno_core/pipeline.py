@@ -35,12 +35,13 @@ def say(message: str) -> None:
 
 def model_labels(config: ExperimentConfig) -> list[str]:
     """The labels ``train`` produces for ``config``, in training order."""
-    operator = config.operator.name
-    labels = [model_label(operator)] if config.output.baseline else []
-    for pp in config.preprocessor:
-        labels.append(model_label(operator, pp.name))
-        if config.refiner is not None:
-            labels.append(model_label(operator, pp.name, refined=True))
+    labels = []
+    for operator in config.operator:
+        labels += [model_label(operator.name)] if config.output.baseline else []
+        for pp in config.preprocessor:
+            labels.append(model_label(operator.name, pp.name))
+            if config.refiner is not None:
+                labels.append(model_label(operator.name, pp.name, refined=True))
     return labels
 
 
@@ -62,7 +63,8 @@ def train(
     resume: bool = False,
     dataset: str | Path | None = None,
 ) -> dict[str, Path]:
-    """Stage 2: train the baseline and one C-PhysFNO per preprocessor; save each model.
+    """Stage 2: for each operator, train the baseline and one C-Phys model per
+    preprocessor; save each model.
 
     Every epoch writes ``models/<label>.checkpoint.pt``; with ``resume``, models already
     saved are kept and an interrupted one continues from its checkpoint. ``dataset``
@@ -80,9 +82,9 @@ def train(
     saved: dict[str, Path] = {}
     variants: list[Any] = [None] if config.output.baseline else []
     variants += list(config.preprocessor)
-    for pp in variants:
+    for operator, pp in ((o, p) for o in config.operator for p in variants):
         model = CompositeModel(
-            config.operator,
+            operator,
             structure=structure,
             preprocessor=None
             if pp is None

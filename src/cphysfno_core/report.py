@@ -41,6 +41,11 @@ PAPER_EXAMPLE1 = {
 }
 
 
+def describe_operators(config: ExperimentConfig) -> str:
+    """The config's operators with their parameters, for a report header."""
+    return ", ".join(f"`{o.name}` {o.params}" for o in config.operator)
+
+
 def format_table(models: dict[str, dict], output_names: list[str], metric: str = "rel_l2") -> str:
     """A fixed-width table: one row per model, one column per output DOF."""
     width = max(len(label) for label in models) + 2
@@ -169,7 +174,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         f"- structure: `{config.structure.name}`, ground motion: `{config.ground_motion.name}`",
         f"- records: {sizes['train']} train / {sizes['val']} validation / {sizes['test']} test,"
         f" dt = {evaluation.data.dt} s, {evaluation.data.u.shape[1]} steps",
-        f"- operator: `{config.operator.name}` {config.operator.params}, "
+        f"- operators: {describe_operators(config)}, "
         f"{config.training.epochs} epochs, batch {config.training.batch_size}, "
         f"Adam lr {config.training.learning_rate}, x{config.training.decay_factor} every "
         f"{config.training.decay_step} epochs",

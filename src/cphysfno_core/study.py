@@ -44,10 +44,14 @@ class Run:
 
 
 def _set_field(document: dict[str, Any], path: str, value: Any) -> None:
+    """Set ``section.field``; in an array of tables (several operators), in every table."""
     section, field = path.split(".")
-    if section not in document or not isinstance(document[section], dict):
+    tables = document.get(section)
+    tables = [tables] if isinstance(tables, dict) else tables
+    if not tables or not all(isinstance(t, dict) for t in tables):
         raise ConfigError(f"study sweep field '{path}': the config has no [{section}] section")
-    document[section][field] = value
+    for table in tables:
+        table[field] = value
 
 
 def plan(config: ExperimentConfig, out: Path) -> list[Run]:

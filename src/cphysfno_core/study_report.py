@@ -8,7 +8,7 @@ from typing import Any
 
 from . import figures
 from .config import ExperimentConfig
-from .report import PAPER_EXAMPLE1
+from .report import PAPER_EXAMPLE1, describe_operators
 from .study import RUNS, TABLE
 
 
@@ -62,7 +62,7 @@ def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: s
         "# cphysfno study",
         "",
         f"- structure `{config.structure.name}`, ground motion `{config.ground_motion.name}`, "
-        f"operator `{config.operator.name}` {config.operator.params}",
+        f"operators {describe_operators(config)}",
         f"- {len(summary['seeds'])} training seeds {summary['seeds']}, {summary['epochs']} "
         f"epochs, {sizes['train']} / {sizes['val']} / {sizes['test']} records, "
         f"trained on {summary['device']}",
