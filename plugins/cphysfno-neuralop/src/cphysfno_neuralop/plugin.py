@@ -1,0 +1,17 @@
+"""Entry point of the ``cphysfno-neuralop`` distribution: registers ``neuralop-fno``.
+
+Registering does not import ``neuralop`` (a few seconds): that happens when the first
+operator is built.
+"""
+
+from __future__ import annotations
+
+import cphysfno_core
+
+from .adapter import NeuralopFNO
+
+
+@cphysfno_core.hookimpl
+def cphysfno_operators() -> list[type]:
+    """The operators of this distribution."""
+    return [NeuralopFNO]
