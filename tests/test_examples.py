@@ -23,6 +23,7 @@ def test_every_example_config_is_valid():
 def test_paper_config_has_the_papers_sizes():
     config = cp.load_config(EXAMPLES / "bouc-wen.toml")
     assert (config.data.n_train, config.data.n_val, config.data.n_test) == (400, 100, 200)
+    assert [o.name for o in config.operator] == ["fno", "deeponet"]
     assert config.operator[0].params == {
         "layers": 6,
         "modes": 32,
@@ -36,6 +37,7 @@ def test_paper_config_has_the_papers_sizes():
 def test_the_study_config_is_the_paper_experiment_with_its_seeds_and_sweeps():
     paper = cp.load_config(EXAMPLES / "bouc-wen.toml").to_dict()
     assert paper.pop("study") is None
+    paper["operator"] = paper["operator"][0]  # the paper's study is of the FNO alone
     study = cp.load_config(EXAMPLES / "bouc-wen-study.toml").to_dict()
     sweeps = study.pop("study")
     assert study == paper
@@ -48,7 +50,9 @@ def test_tiny_example1_runs_end_to_end(tmp_path, capsys):
     data = tomllib.loads((EXAMPLES / "bouc-wen-demo.toml").read_text())
     data["ground_motion"]["duration"] = 6.0
     data["data"].update(n_train=10, n_val=4, n_test=6, chunk_size=10, executor="serial")
-    data["operator"].update(layers=2, modes=8, width=8, projection_width=16)
+    fno, deeponet = data["operator"]
+    fno.update(layers=2, modes=8, width=8, projection_width=16)
+    deeponet.update(sensors=32, latent=8, branch_width=16, trunk_width=16, fourier_features=8)
     data["training"].update(epochs=2, batch_size=5)
     path = tmp_path / "tiny.toml"
     path.write_text(_to_toml(data))
@@ -68,6 +72,13 @@ def test_tiny_example1_runs_end_to_end(tmp_path, capsys):
         "physics-els",
         "physics-modal",
         "physics-relaxed",
+        "deeponet",
+        "c-physdeeponet-els",
+        "c-physdeeponet-modal",
+        "c-physdeeponet-relaxed",
+        "refined-c-physdeeponet-els",
+        "refined-c-physdeeponet-modal",
+        "refined-c-physdeeponet-relaxed",
     }
     assert all(len(row["rel_l2"]) == 5 for row in models.values())
     assert (out / "figures" / "hysteresis.png").exists()
