@@ -9,7 +9,15 @@ import sys
 
 from .common import format_rows, machine
 
-MODULES = ("bouc_wen", "physics", "training", "prediction", "memory")
+MODULES = (
+    "bouc_wen",
+    "physics",
+    "training",
+    "prediction",
+    "memory",
+    "opensees_bridge",
+    "opensees_frame",
+)
 
 
 def main(argv: list[str] | None = None) -> int:

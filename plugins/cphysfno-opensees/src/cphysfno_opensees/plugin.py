@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import cphysfno_core
 
+from .bridge import AuburnRavineBridge
+from .sac9_frame import Sac9Frame
+
 
 @cphysfno_core.hookimpl
 def cphysfno_structures() -> list[type]:
     """The OpenSees structures."""
-    return []
+    return [AuburnRavineBridge, Sac9Frame]

@@ -1,0 +1,143 @@
+"""The bridge's linear representation, read from its elastic OpenSees model.
+
+Only translational DOFs carry mass (lumped at the girder and column-top nodes); the
+rotations are massless. The damping is Rayleigh, ``C = a0 M + a1 K0`` with ``K0`` the
+initial stiffness, so a massless row of the equations of motion reads
+``(1 + a1 d/dt) (K0 u)_o = 0`` and, from rest, ``(K0 u)_o = 0`` at every instant: static
+condensation onto the mass-carrying DOFs is exact. This holds because the gravity
+(P-Delta) stiffness ``K - K0`` lives on the column-top translations alone, which carry
+mass; :func:`assemble` checks it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+
+from cphysfno_core import LinearSystem
+
+from .bridge_design import BridgeDesign
+from .bridge_model import ElasticSection, Numerics, apply_gravity, build
+
+TRANSVERSE = 2
+"""Global direction of the excitation and of the outputs (Y, across the girder)."""
+
+
+@dataclass(frozen=True)
+class Rayleigh:
+    """``C = mass_factor M + stiffness_factor K0`` (1/s and s)."""
+
+    mass_factor: float
+    stiffness_factor: float
+
+
+@dataclass(frozen=True)
+class Matrices:
+    """The elastic bridge condensed onto its mass-carrying DOFs (SI units).
+
+    Attributes:
+        mass: ``[n, n]`` lumped masses, kg.
+        initial_stiffness: ``[n, n]`` K0 without gravity, N/m.
+        stiffness: ``[n, n]`` K under gravity (with its P-Delta part), N/m.
+        influence: ``[n]`` ones on the transverse DOFs.
+        output_map: ``[10, n]`` picks each column top's transverse DOF.
+        dofs: ``[n]`` ``(node, direction)`` of each DOF.
+    """
+
+    mass: np.ndarray
+    initial_stiffness: np.ndarray
+    stiffness: np.ndarray
+    influence: np.ndarray
+    output_map: np.ndarray
+    dofs: tuple[tuple[int, int], ...]
+
+    def frequencies(self) -> np.ndarray:
+        """``[n]`` undamped circular frequencies of (K, M), rad/s, ascending."""
+        squares = scipy.linalg.eigh(self.stiffness, self.mass, eigvals_only=True)
+        return np.sqrt(squares)
+
+    def rayleigh(self, ratio: float, second_period: float) -> Rayleigh:
+        """Rayleigh factors giving ``ratio`` of critical at the first mode and at
+        ``second_period`` (s)."""
+        first = self.frequencies()[0]
+        second = 2.0 * math.pi / second_period
+        stiffness_factor = 2.0 * ratio / (first + second)
+        return Rayleigh(stiffness_factor * first * second, stiffness_factor)
+
+    def linear_system(self, damping: Rayleigh) -> LinearSystem:
+        """M, ``a0 M + a1 K0``, K, influence and output map."""
+        c = damping.mass_factor * self.mass + damping.stiffness_factor * self.initial_stiffness
+        return LinearSystem(self.mass, c, self.stiffness, self.influence, self.output_map)
+
+
+def assemble(
+    ops: Any, design: BridgeDesign, numerics: Numerics, elastic: ElasticSection
+) -> Matrices:
+    """Read K0 and K of the elastic bridge from OpenSees and condense them.
+
+    Raises:
+        RuntimeError: the gravity stiffness reaches a massless DOF, so condensation would
+            not be exact.
+    """
+    where = build(ops, design, numerics, "elastic", elastic, gravity=False)
+    initial = _tangent(ops)
+    ops.wipeAnalysis()
+    apply_gravity(ops, where)
+    loaded = _tangent(ops)
+    equations, dofs, masses = [], [], []
+    for node in (*where.girder_nodes, *where.column_tops):
+        numbers = ops.nodeDOFs(node)
+        for direction in (1, 2, 3):
+            if numbers[direction - 1] >= 0:
+                equations.append(numbers[direction - 1])
+                dofs.append((node, direction))
+                masses.append(ops.nodeMass(node, direction))
+    ops.wipe()
+    keep = np.asarray(equations)
+    others = np.setdiff1d(np.arange(initial.shape[0]), keep)
+    geometric = loaded - initial
+    if np.abs(geometric[others]).max() > 1e-9 * np.abs(initial).max():
+        raise RuntimeError("the gravity stiffness reaches massless DOFs: cannot condense")
+    output_map = np.zeros((len(where.column_tops), keep.size))
+    for row, top in enumerate(where.column_tops):
+        output_map[row, dofs.index((top, TRANSVERSE))] = 1.0
+    influence = np.array([1.0 if direction == TRANSVERSE else 0.0 for _, direction in dofs])
+    return Matrices(
+        np.diag(masses),
+        _condense(initial, keep, others),
+        _condense(loaded, keep, others),
+        influence,
+        output_map,
+        tuple(dofs),
+    )
+
+
+def _tangent(ops: Any) -> np.ndarray:
+    """``[n_eq, n_eq]`` tangent stiffness of the current state (N/m, N, N m), symmetrised;
+    the static analysis that formed it stays defined, its equations numbered in order."""
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", 1e-12, 10)
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 0.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("could not form the tangent of the elastic bridge")
+    values = np.asarray(ops.printA("-ret"), dtype=np.float64)
+    n = int(round(math.sqrt(values.size)))
+    matrix = values.reshape(n, n)
+    return 0.5 * (matrix + matrix.T)
+
+
+def _condense(matrix: np.ndarray, keep: np.ndarray, others: np.ndarray) -> np.ndarray:
+    """Static condensation ``K_kk - K_ko K_oo^-1 K_ok`` onto the DOFs ``keep``."""
+    kk = matrix[np.ix_(keep, keep)]
+    ko = matrix[np.ix_(keep, others)]
+    oo = matrix[np.ix_(others, others)]
+    condensed = kk - ko @ np.linalg.solve(oo, ko.T)
+    return 0.5 * (condensed + condensed.T)

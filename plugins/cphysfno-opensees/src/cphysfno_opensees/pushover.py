@@ -1,0 +1,291 @@
+"""Static pushover of an OpenSees building model and the shear building it implies.
+
+The paper's equivalent linear system of a frame (§5.3) comes from a pushover with an
+inverted triangular load pattern: its initial slope gives the elastic story stiffnesses
+``k_i = V_i / delta_i`` (story shear over interstory drift), which make a tridiagonal
+shear-building stiffness with the floor masses. :func:`run_pushover` runs the analysis on a
+model already defined in OpenSees, :class:`PushoverCurve` holds what it found (saved as
+JSON, drawn by :func:`plot_pushover`), and :func:`shear_building` builds the linear system.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cphysfno_core import CphysfnoError, InputError, LinearSystem
+
+ELASTIC_TOLERANCE = 1e-3
+"""A point of the curve is elastic while its secant stiffness (base shear over roof
+displacement) is within this fraction of the initial slope."""
+
+
+class PushoverError(CphysfnoError):
+    """A pushover that did not run to its target or never left the elastic range."""
+
+
+@dataclass(frozen=True)
+class PushoverCurve:
+    """Result of a displacement-controlled pushover, point 0 being the unloaded state.
+
+    Attributes:
+        heights: ``[n]`` floor elevations above the ground, m, bottom floor first.
+        masses: ``[n]`` floor masses, kg.
+        pattern: ``[n]`` shape of the lateral load (sums to 1).
+        floor_displacement: ``[p, n]`` floor displacements relative to the ground, m.
+        base_shear: ``[p]`` total lateral load, N.
+    """
+
+    heights: np.ndarray
+    masses: np.ndarray
+    pattern: np.ndarray
+    floor_displacement: np.ndarray
+    base_shear: np.ndarray
+
+    @property
+    def roof_displacement(self) -> np.ndarray:
+        """``[p]`` displacement of the top floor, m."""
+        return self.floor_displacement[:, -1]
+
+    @property
+    def roof_drift_ratio(self) -> np.ndarray:
+        """``[p]`` roof displacement over the roof's height."""
+        return self.roof_displacement / self.heights[-1]
+
+    @property
+    def story_shear(self) -> np.ndarray:
+        """``[p, n]`` shear of each story (the loads on the floors above it), N."""
+        loads = self.base_shear[:, None] * self.pattern[None, :]
+        return np.cumsum(loads[:, ::-1], axis=1)[:, ::-1]
+
+    @property
+    def story_drift(self) -> np.ndarray:
+        """``[p, n]`` interstory drift of each story (floor minus the floor below), m."""
+        below = np.zeros((self.floor_displacement.shape[0], 1))
+        return np.diff(np.concatenate([below, self.floor_displacement], axis=1), axis=1)
+
+    @property
+    def initial_stiffness(self) -> float:
+        """Initial slope of base shear over roof displacement, N/m (first load step)."""
+        return float(self.base_shear[1] / self.roof_displacement[1])
+
+    @property
+    def story_stiffness(self) -> np.ndarray:
+        """``[n]`` elastic story stiffnesses ``k_i = V_i / delta_i`` at the first load step,
+        N/m."""
+        return self.story_shear[1] / self.story_drift[1]
+
+    @property
+    def elastic_points(self) -> int:
+        """Number of leading points whose secant stiffness is within
+        :data:`ELASTIC_TOLERANCE` of the initial slope (the unloaded point included)."""
+        secant = self.base_shear[1:] / self.roof_displacement[1:]
+        elastic = np.abs(secant / self.initial_stiffness - 1.0) <= ELASTIC_TOLERANCE
+        return 1 + int(np.argmin(elastic)) if not elastic.all() else len(self.base_shear)
+
+    @property
+    def peak_base_shear(self) -> float:
+        """Largest base shear on the curve, N."""
+        return float(self.base_shear.max())
+
+    def to_json(self) -> str:
+        """The curve and the stiffnesses derived from it, as a JSON document (SI units)."""
+        document = {
+            "units": {"length": "m", "force": "N", "mass": "kg", "stiffness": "N/m"},
+            "heights": self.heights.tolist(),
+            "masses": self.masses.tolist(),
+            "pattern": self.pattern.tolist(),
+            "floor_displacement": self.floor_displacement.tolist(),
+            "base_shear": self.base_shear.tolist(),
+            "initial_stiffness": self.initial_stiffness,
+            "story_stiffness": self.story_stiffness.tolist(),
+            "elastic_points": self.elastic_points,
+        }
+        return json.dumps(document)
+
+    @classmethod
+    def from_json(cls, text: str) -> PushoverCurve:
+        """The curve :meth:`to_json` wrote."""
+        document = json.loads(text)
+        fields = ("heights", "masses", "pattern", "floor_displacement", "base_shear")
+        return cls(*(np.asarray(document[name], dtype=np.float64) for name in fields))
+
+
+def triangular_pattern(heights: np.ndarray) -> np.ndarray:
+    """``[n]`` inverted triangular load shape: proportional to the height above the
+    ground, summing to 1."""
+    heights = np.asarray(heights, dtype=np.float64)
+    return heights / heights.sum()
+
+
+def run_pushover(
+    ops: Any,
+    floors: list[int],
+    heights: np.ndarray,
+    masses: np.ndarray,
+    *,
+    target_drift_ratio: float = 0.03,
+    n_steps: int = 300,
+    configure: Any = None,
+) -> PushoverCurve:
+    """Push a model already defined in OpenSees (gravity, if any, applied and held) with
+    an inverted triangular load on its floors until the roof reaches
+    ``target_drift_ratio`` times its height, in ``n_steps`` equal displacement steps.
+
+    Args:
+        ops: the ``openseespy.opensees`` module.
+        floors: node tags whose horizontal (DOF 1) displacement is each floor's, bottom up.
+        heights: ``[n]`` floor elevations above the ground, m.
+        masses: ``[n]`` floor masses, kg (kept with the curve for the shear building).
+        target_drift_ratio: roof displacement to reach, over the roof's height.
+        n_steps: displacement-control steps.
+        configure: ``configure(ops)`` sets constraints, numberer, system, test and
+            algorithm; ``None`` uses Transformation, RCM, BandGeneral, NormDispIncr 1e-8
+            and Newton.
+
+    Returns:
+        The curve, ``n_steps + 1`` points.
+
+    Raises:
+        InputError: the floors, heights and masses do not match or the target is not
+            positive.
+        PushoverError: a step did not converge, or the curve never left the elastic range
+            (the target is too small to find the yield).
+    """
+    heights = np.asarray(heights, dtype=np.float64)
+    masses = np.asarray(masses, dtype=np.float64)
+    if not (len(floors) == heights.size == masses.size) or heights.ndim != 1:
+        raise InputError(
+            f"one height and one mass per floor: {len(floors)} floors, {heights.size} "
+            f"heights, {masses.size} masses"
+        )
+    if not target_drift_ratio > 0.0 or n_steps < 2:
+        raise InputError(
+            f"target_drift_ratio must be > 0 and n_steps >= 2, got {target_drift_ratio} "
+            f"and {n_steps}"
+        )
+    pattern = triangular_pattern(heights)
+    series, load_pattern = 9101, 9101
+    ops.timeSeries("Linear", series)
+    ops.pattern("Plain", load_pattern, series)
+    for node, share in zip(floors, pattern, strict=True):
+        ops.load(node, float(share), 0.0, 0.0)
+    if configure is None:
+        ops.constraints("Transformation")
+        ops.numberer("RCM")
+        ops.system("BandGeneral")
+        ops.test("NormDispIncr", 1e-8, 50)
+        ops.algorithm("Newton")
+    else:
+        configure(ops)
+    increment = target_drift_ratio * heights[-1] / n_steps
+    ops.integrator("DisplacementControl", floors[-1], 1, increment)
+    ops.analysis("Static")
+    displacement = np.zeros((n_steps + 1, len(floors)))
+    shear = np.zeros(n_steps + 1)
+    for step in range(1, n_steps + 1):
+        if ops.analyze(1) != 0:
+            raise PushoverError(
+                f"the pushover did not converge at step {step} of {n_steps} (roof "
+                f"displacement {step * increment:.3f} m)"
+            )
+        displacement[step] = [ops.nodeDisp(node, 1) for node in floors]
+        shear[step] = ops.getLoadFactor(load_pattern)
+    ops.wipeAnalysis()
+    curve = PushoverCurve(heights, masses, pattern, displacement, shear)
+    if curve.elastic_points == len(shear):
+        raise PushoverError(
+            f"the pushover stayed elastic up to a roof drift ratio of {target_drift_ratio} "
+            f"(secant stiffness within {ELASTIC_TOLERANCE:g} of the initial slope "
+            "everywhere): raise target_drift_ratio to find where the structure yields"
+        )
+    return curve
+
+
+def shear_building(
+    masses: np.ndarray,
+    story_stiffness: np.ndarray,
+    damping_ratio: float,
+    damping_modes: tuple[int, int] = (1, 3),
+) -> LinearSystem:
+    """The shear building of ``story_stiffness`` and ``masses``, Rayleigh damped.
+
+    ``K`` is tridiagonal (``K_ii = k_i + k_{i+1}``, ``K_{i,i+1} = -k_{i+1}``), ``M``
+    diagonal, ``C = a M + b K`` with ``damping_ratio`` in the two modes of
+    ``damping_modes`` (1-based, of ``M`` and ``K``); influence ones, identity output map.
+
+    Args:
+        masses: ``[n]`` floor masses, kg.
+        story_stiffness: ``[n]`` story stiffnesses, N/m, bottom story first.
+        damping_ratio: fraction of critical damping in the two modes.
+        damping_modes: the two modes matched.
+    """
+    masses = np.asarray(masses, dtype=np.float64)
+    k = np.asarray(story_stiffness, dtype=np.float64)
+    n = masses.size
+    if k.shape != (n,) or (k <= 0).any() or (masses <= 0).any():
+        raise InputError(
+            f"shear building needs {n} positive story stiffnesses and masses, got {k} and {masses}"
+        )
+    if not (1 <= min(damping_modes) and max(damping_modes) <= n):
+        raise InputError(f"damping_modes must lie in 1..{n}, got {damping_modes}")
+    above = np.append(k[1:], 0.0)
+    stiffness = np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
+    mass = np.diag(masses)
+    omega = np.sqrt(np.linalg.eigvalsh(stiffness / np.sqrt(np.outer(masses, masses))))
+    a, b = (omega[m - 1] for m in damping_modes)
+    alpha, beta = 2 * damping_ratio * a * b / (a + b), 2 * damping_ratio / (a + b)
+    return LinearSystem(mass, alpha * mass + beta * stiffness, stiffness, np.ones(n), np.eye(n))
+
+
+def plot_pushover(curve: PushoverCurve, path: str | Path | None = None):
+    """Draw the pushover curve with its initial slope (left) and the story stiffnesses
+    (right); save it to ``path`` when given.
+
+    Returns:
+        The matplotlib figure.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4), width_ratios=(3, 2))
+    drift = 100.0 * curve.roof_drift_ratio
+    left.plot(drift, curve.base_shear / 1e6, color="k", lw=1.2, label="pushover")
+    reach = curve.peak_base_shear / curve.initial_stiffness
+    line = np.array([0.0, reach])
+    left.plot(
+        100.0 * line / curve.heights[-1],
+        curve.initial_stiffness * line / 1e6,
+        color="tab:red",
+        ls="--",
+        lw=1.0,
+        label=f"initial slope {curve.initial_stiffness / 1e6:.1f} MN/m",
+    )
+    limit = curve.elastic_points - 1
+    left.plot(
+        drift[limit],
+        curve.base_shear[limit] / 1e6,
+        "o",
+        color="tab:blue",
+        label="end of the elastic range",
+    )
+    left.set_xlabel("roof drift ratio (%)")
+    left.set_ylabel("base shear (MN)")
+    left.set_title("pushover, inverted triangular load")
+    left.legend(fontsize=8, loc="lower right")
+    stories = np.arange(1, curve.heights.size + 1)
+    right.barh(stories, curve.story_stiffness / 1e6, color="tab:gray")
+    right.set_yticks(stories)
+    right.set_xlabel("k_i = V_i / delta_i (MN/m)")
+    right.set_ylabel("story")
+    right.set_title("elastic story stiffness")
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=130)
+    return fig

@@ -1,0 +1,206 @@
+"""The SAC Los Angeles nine-story steel moment frame of the paper's Example 3 (§5.3)."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Callable
+from typing import Literal
+
+import numpy as np
+from pydantic import Field
+
+from cphysfno_core import ConfigError, LinearSystem
+
+from .loader import import_opensees
+from .pushover import PushoverCurve, plot_pushover, run_pushover, shear_building
+from .sac9_analysis import Rayleigh, SolverConfig, analyse_record
+from .sac9_model import FrameConfig, build_frame, eigenvalues
+from .sac9_sections import N_STORIES
+from .structure import OpenSeesParams, OpenSeesStructure
+
+__all__ = ["Sac9Frame", "Sac9FrameParams", "plot_pushover"]
+
+
+class Sac9FrameParams(OpenSeesParams):
+    """Parameters of :class:`Sac9Frame`; the published data (geometry, shapes, steel,
+    masses) are fixed, these are the modelling and solution choices."""
+
+    model: Literal["fibre", "hinges"] = Field(
+        "fibre",
+        description="fibre: force-based elements with fibre sections; hinges: elastic "
+        "members with bilinear moment-curvature hinges at their ends (faster)",
+    )
+    damping_ratio: float = Field(
+        0.03, ge=0.0, lt=1.0, description="Rayleigh damping ratio in modes 1 and 3"
+    )
+    p_delta: bool = Field(
+        True, description="P-Delta columns and a leaning column carrying the floors' weight"
+    )
+    flange_fibres: int = Field(
+        2, ge=2, le=50, description="fibres through each flange (Gauss-Legendre points)"
+    )
+    web_fibres: int = Field(
+        16, ge=4, le=200, multiple_of=2, description="fibres over the web depth, even"
+    )
+    integration_points: int = Field(
+        5, ge=3, le=10, description="Gauss-Lobatto points per fibre element"
+    )
+    elastic_interior: bool = Field(
+        True,
+        description="fibre sections at the two end points only, elastic sections of the "
+        "same EA and EI inside (identical while the interior stays below first yield)",
+    )
+    hinge_length: float = Field(
+        0.5, gt=0.0, le=2.0, description="plastic hinge length over the member depth (hinges)"
+    )
+    tolerance: float = Field(
+        100.0,
+        gt=0.0,
+        le=1e4,
+        description="largest norm of the unbalanced nodal forces of a converged step, N",
+    )
+    pushover_drift: float = Field(
+        0.03, gt=0.0, le=0.1, description="roof drift ratio the pushover reaches"
+    )
+
+
+class Sac9Frame(OpenSeesStructure):
+    """Two-dimensional OpenSees model of one north-south moment frame of the SAC Los
+    Angeles nine-story building (Ohtori et al. 2004), under horizontal ground motion.
+
+    Five 9.144 m bays, a 3.66 m basement on pinned column bases, the ground level held
+    horizontally, a 5.49 m first story and 3.96 m stories above; W-shape columns
+    (F_y = 345 MPa) changing section at the splices of stories 1, 3, 5 and 7 and beams
+    (F_y = 248 MPa), bilinear steel with 1 % hardening, the rightmost bay's beams pinned at
+    the exterior column; half the building's seismic mass on rigid-diaphragm floors, a
+    leaning column carrying that weight through P-Delta, Rayleigh damping on the mass and
+    the initial stiffness. The equations are integrated with Newmark's average
+    acceleration rule, one step per sample, the ground acceleration linear between samples.
+
+    Outputs are the horizontal displacements of levels 2 ... 9 and the roof relative to
+    the ground (m). Records run in worker processes and a coarser ``dt`` resamples the
+    motion (:class:`~cphysfno_opensees.structure.OpenSeesStructure`). The linear system
+    is the paper's equivalent linear system: the shear building whose story stiffnesses
+    come from a pushover of this model; the periods are the frame's own.
+    """
+
+    name = "sac9-frame"
+    Params = Sac9FrameParams
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return tuple(f"level-{level}" for level in range(2, N_STORIES + 1)) + ("roof",)
+
+    @property
+    def frame_config(self) -> FrameConfig:
+        """The model these parameters describe."""
+        p = self.params
+        return FrameConfig(
+            model=p.model,
+            flange_fibres=p.flange_fibres,
+            web_fibres=p.web_fibres,
+            integration_points=p.integration_points,
+            elastic_interior=p.elastic_interior,
+            hinge_length=p.hinge_length,
+            p_delta=p.p_delta,
+            damping_ratio=p.damping_ratio,
+        )
+
+    @property
+    def solver_config(self) -> SolverConfig:
+        """How each step is solved."""
+        return SolverConfig(tolerance=self.params.tolerance)
+
+    def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
+        """``analyse(a_g [T] m/s^2, dt s) -> [T, 9]`` floor displacements (m): the model,
+        the solver settings and the Rayleigh coefficients bound to
+        :func:`~cphysfno_opensees.sac9_analysis.analyse_record`."""
+        return functools.partial(
+            analyse_record, self.frame_config, self.solver_config, self.rayleigh()
+        )
+
+    def periods(self, n: int | None = None) -> np.ndarray:
+        """First ``n`` (default all nine) elastic periods in s, longest first, from an
+        OpenSees eigen analysis of the initial stiffness without the P-Delta effect of the
+        weight (the model "before gravity")."""
+        return _periods(self.frame_config, loaded=False)[: self._count(n)].copy()
+
+    def loaded_periods(self, n: int | None = None) -> np.ndarray:
+        """First ``n`` (default all nine) periods in s with the P-Delta effect of the
+        floors' weight, which lengthens them; Rayleigh damping is matched to these."""
+        return _periods(self.frame_config, loaded=True)[: self._count(n)].copy()
+
+    def _count(self, n: int | None) -> int:
+        if n is None:
+            return N_STORIES
+        if isinstance(n, bool) or not isinstance(n, int | np.integer) or not 1 <= n <= N_STORIES:
+            raise ConfigError(f"{self.name}: n must be an integer from 1 to {N_STORIES}, got {n!r}")
+        return int(n)
+
+    def pushover(self) -> PushoverCurve:
+        """The pushover of the nonlinear model (fibre sections at every integration point,
+        whatever ``elastic_interior`` says) under an inverted triangular load, to a roof
+        drift ratio of ``pushover_drift``; computed once per model.
+
+        Raises:
+            PushoverError: the pushover did not converge, or never left the elastic range.
+        """
+        config = dataclasses.replace(self.frame_config, elastic_interior=False)
+        return _pushover(config, self.params.pushover_drift)
+
+    def linear_system(self) -> LinearSystem:
+        """The paper's equivalent linear system: the shear building of the pushover's
+        elastic story stiffnesses (N/m) and the floor masses (kg), Rayleigh damped with
+        ``damping_ratio`` in its modes 1 and 3; influence ones, identity output map."""
+        curve = self.pushover()
+        config = self.frame_config
+        return shear_building(
+            curve.masses, curve.story_stiffness, config.damping_ratio, config.damping_modes
+        )
+
+    def rayleigh(self) -> Rayleigh:
+        """Rayleigh coefficients on the mass and the initial stiffness that give
+        ``damping_ratio`` in modes 1 and 3 of the model with its P-Delta effect."""
+        config = self.frame_config
+        omega = 2.0 * np.pi / self.loaded_periods()
+        first, second = (omega[m - 1] for m in config.damping_modes)
+        return Rayleigh.matching(first, second, config.damping_ratio)
+
+
+@functools.lru_cache(maxsize=16)
+def _periods(config: FrameConfig, loaded: bool) -> np.ndarray:
+    """``[9]`` periods in s of the model at rest, without (``loaded=False``: no P-Delta) or
+    with the P-Delta effect of its weight."""
+    ops = import_opensees()
+    frame = build_frame(ops, config if loaded else dataclasses.replace(config, p_delta=False))
+    squares = eigenvalues(ops, len(frame.floors))
+    ops.wipe()
+    return 2.0 * np.pi / np.sqrt(squares)
+
+
+@functools.lru_cache(maxsize=16)
+def _pushover(config: FrameConfig, target_drift_ratio: float) -> PushoverCurve:
+    ops = import_opensees()
+    frame = build_frame(ops, config)
+    try:
+        return run_pushover(
+            ops,
+            frame.floors,
+            frame.heights,
+            frame.masses,
+            target_drift_ratio=target_drift_ratio,
+            configure=_static_solver,
+        )
+    finally:
+        ops.wipe()
+
+
+def _static_solver(ops) -> None:
+    """Solver of the pushover: full Newton on a general banded system (the tangent may lose
+    definiteness past the peak), equations numbered in tag order."""
+    ops.constraints("Transformation")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-8, 50)
+    ops.algorithm("Newton")

@@ -1,0 +1,77 @@
+"""The nonlinear bridge: linear at small amplitude, nonlinear at large, usable by the
+preprocessors that its capabilities allow."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from cphysfno_opensees.bridge import AuburnRavineBridge
+
+import cphysfno_core as cp
+from cphysfno_core import CapabilityError, GroundMotions
+
+
+def relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """Per output over records and time."""
+    return np.sqrt(((estimate - truth) ** 2).sum((0, 1)) / (truth**2).sum((0, 1)))
+
+
+@pytest.fixture(scope="module")
+def bridge() -> AuburnRavineBridge:
+    return cp.create("structure", "auburn-ravine-bridge")
+
+
+@pytest.fixture(scope="module")
+def record() -> GroundMotions:
+    """The first 6 s (rise and strong motion) of a default spectrum-compatible record."""
+    source = cp.create("ground_motion", "spectrum-compatible")
+    motion = source.sample(1, np.random.default_rng(11))
+    return GroundMotions(motion.acceleration[:, :601], motion.dt)
+
+
+@pytest.fixture(scope="module")
+def els(bridge) -> cp.PhysicsPreprocessor:
+    return cp.create("preprocessor", "els").fit(bridge)
+
+
+def test_at_one_percent_of_a_record_the_bridge_is_its_linear_system(bridge, record, els):
+    small = GroundMotions(0.01 * record.acceleration, record.dt)
+    nonlinear = bridge.simulate(small).displacement
+    linear = els.transform(small)
+    assert np.abs(linear).max() > 1e-5
+    error = relative_l2(nonlinear, linear)
+    assert np.all(error <= 0.05), error
+
+
+def test_a_strong_record_takes_the_columns_out_of_their_linear_range(bridge, record, els):
+    strong = GroundMotions(3.0 * record.acceleration, record.dt)
+    nonlinear = bridge.simulate(strong).displacement
+    linear = els.transform(strong)
+    assert np.abs(nonlinear).max() > 0.02  # beyond first yield of the middle columns
+    assert np.all(relative_l2(nonlinear, linear) > 0.1)
+
+
+def test_relaxed_runs_the_model_on_a_coarse_grid(bridge, record):
+    relaxed = cp.create("preprocessor", "relaxed", factor=5).fit(bridge)
+    z = relaxed.transform(record)
+    fine = bridge.simulate(record).displacement
+    assert z.shape == fine.shape
+    assert np.all(np.isfinite(z))
+    rms_ratio = np.sqrt((z**2).mean() / (fine**2).mean())
+    assert 0.5 < rms_ratio < 2.0, rms_ratio
+
+
+def test_modal_reduction_needs_a_restoring_force_the_bridge_does_not_have(bridge):
+    modal = cp.create("preprocessor", "modal", modes=3)
+    with pytest.raises(CapabilityError, match="auburn-ravine-bridge.*restoring_force"):
+        modal.fit(bridge)
+
+
+def test_a_record_that_does_not_converge_is_a_named_failure(record):
+    hopeless = AuburnRavineBridge(tolerance=1e-300)
+    motions = GroundMotions(np.vstack([np.zeros(31), record.acceleration[0, :31]]), record.dt)
+    responses = hopeless.simulate(motions)
+    assert list(responses.failures) == [1]
+    assert responses.failures[1].startswith("did not converge at t = 0.00 s after Newton")
+    assert np.isnan(responses.displacement[1]).all()
+    assert np.array_equal(responses.displacement[0], np.zeros((31, 10)))
