@@ -91,7 +91,7 @@ def test_wavelets_finish_what_the_frequency_stage_leaves(envelope):
     left = first.misfit > TOLERANCE
     assert left.sum() >= 15
     assert (independent[left] <= TOLERANCE).mean() >= 0.8
-    assert np.all(second.misfit <= first.misfit)
+    assert np.all(second.misfit <= first.misfit * (1.0 + 1e-9))  # two spectrum solvers
     velocity, displacement = velocity_displacement(second.acceleration, DT)
     assert np.abs(velocity[:, -1]).max() < 1e-9 and np.abs(displacement[:, -1]).max() < 1e-9
     adjusted = second.iterations > 0
