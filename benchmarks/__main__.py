@@ -12,6 +12,7 @@ from .common import format_rows, machine
 MODULES = (
     "bouc_wen",
     "physics",
+    "spectrum_matching",
     "training",
     "prediction",
     "memory",

@@ -77,6 +77,7 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
         "peaks",
         "spectra",
         "training",
+        "motion_spectra",
     ):
         assert (out / "figures" / f"{figure}.png").stat().st_size > 1000
         assert f"figures/{figure}.png" in report

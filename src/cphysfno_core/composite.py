@@ -366,7 +366,9 @@ class CompositeModel:
     # -- persistence -----------------------------------------------------------------
     def save(self, directory: str | Path) -> Path:
         """Write ``model.json`` (parts by name and parameters), ``operator.pt`` (tensors
-        only) and ``arrays.npz`` (normalisers, refiner state) into ``directory``."""
+        only) and ``arrays.npz`` (normalisers, refiner state) into ``directory``; for a
+        C-Phys model also what the structure shows of itself (e.g. the pushover behind its
+        equivalent linear system) into ``directory/structure``, for the reader only."""
         self._check_fitted()
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
@@ -398,6 +400,8 @@ class CompositeModel:
         torch.save(self.operator_.state_dict(), directory / "operator.pt")
         np.savez(directory / "arrays.npz", **arrays)
         (directory / "model.json").write_text(json.dumps(description, indent=2))
+        if self.preprocessor is not None:
+            self.structure.write_artifacts(directory / "structure")
         return directory
 
     @classmethod

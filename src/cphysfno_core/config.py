@@ -113,7 +113,9 @@ class OutputConfig(_Strict):
 
     baseline: bool = Field(True, description="also train the plain operator on [a_g, t]")
     figures: bool = True
-    paper_reference: Literal["example1", "none"] = "none"
+    paper_reference: Literal["example1", "example2", "example3", "none"] = Field(
+        "none", description="print this paper example's table beside ours (Tables 1, 3, 5)"
+    )
 
 
 class SweepConfig(_Strict):

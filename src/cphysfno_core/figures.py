@@ -14,6 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.signal import welch  # noqa: E402
 
+from .intensity import STANDARD_GRAVITY, SpectrumBand, response_spectrum  # noqa: E402
+
 DPI = 130
 
 
@@ -158,6 +160,60 @@ def spectra(
     psd.set_xlabel("frequency (Hz)")
     psd.set_ylabel("PSD / max")
     psd.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def motion_spectra(
+    acceleration: np.ndarray,
+    dt: float,
+    path: Path,
+    *,
+    target: SpectrumBand | None = None,
+    periods: np.ndarray | None = None,
+    damping: float = 0.05,
+    title: str = "",
+) -> Path:
+    """Every record's pseudo-spectral acceleration (in g, log-log) with the target's median
+    and band when given, else the records' own median and 2.5-97.5 % band (paper Fig. 10(b)).
+
+    Args:
+        acceleration: ``[n, T]`` ground accelerations in m/s^2.
+        dt: time step in s.
+        path: PNG file to write (its folder is created).
+        target: the spectrum the records were made to follow.
+        periods: ``[P]`` periods in s of the records' spectra; default 60 spread
+            log-uniformly over the target's periods, else from 0.02 s to 5 s.
+        damping: damping ratio of the records' spectra.
+        title: figure title.
+    """
+    if periods is None:
+        low, high = (target.periods[0], target.periods[-1]) if target is not None else (0.02, 5)
+        periods = np.geomspace(low, high, 60)
+    psa = response_spectrum(acceleration, dt, periods, damping).pseudo_acceleration
+    g = STANDARD_GRAVITY
+    fig, ax = plt.subplots(figsize=(6.0, 4.5))
+    for row in psa:
+        ax.loglog(periods, row / g, color="0.65", lw=0.5, alpha=0.6)
+    ax.plot([], [], color="0.65", lw=0.8, label=f"{psa.shape[0]} records")
+    if target is None:
+        reference = SpectrumBand(
+            periods, *np.percentile(psa, [50.0, 2.5, 97.5], axis=0), damping, "records' 2.5-97.5 %"
+        )
+        name = "records' median"
+    else:
+        reference, name = target, "target median"
+    ax.loglog(reference.periods, reference.median / g, color="k", lw=2, label=name)
+    for edge, label in ((reference.lower, reference.label), (reference.upper, None)):
+        ax.loglog(reference.periods, edge / g, color="k", ls="--", lw=1.5, label=label)
+    ax.set_xlabel("period T (s)")
+    ax.set_ylabel(f"Sa (g), {damping:.0%} damping")
+    ax.set_xlim(periods.min(), periods.max())
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(loc="lower left", fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     return _save(fig, path)
 
 

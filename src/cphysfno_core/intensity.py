@@ -184,6 +184,37 @@ class ResponseSpectrum:
         return self.displacement * (2.0 * np.pi / self.periods) ** 2
 
 
+@dataclass(frozen=True)
+class SpectrumBand:
+    """A target response spectrum: its median and a band, e.g. 2.5 % to 97.5 %.
+
+    Attributes:
+        periods: ``[P]`` periods in s, increasing.
+        median: ``[P]`` median pseudo-spectral acceleration in m/s^2.
+        lower: ``[P]`` lower edge of the band in m/s^2.
+        upper: ``[P]`` upper edge of the band in m/s^2.
+        damping: damping ratio the spectra are defined for.
+        label: what the band spans, for a legend.
+    """
+
+    periods: np.ndarray
+    median: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    damping: float = 0.05
+    label: str = "2.5 % and 97.5 %"
+
+    def __post_init__(self) -> None:
+        periods = _periods(self.periods)
+        for name in ("median", "lower", "upper"):
+            value = np.asarray(getattr(self, name), dtype=np.float64)
+            if value.shape != periods.shape:
+                raise InputError(f"{name} must have one value per period, got {value.shape}")
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "periods", periods)
+        _check_damping(self.damping)
+
+
 def response_spectrum(
     acceleration: np.ndarray, dt: float, periods: np.ndarray, damping: float = 0.05
 ) -> ResponseSpectrum:

@@ -10,6 +10,7 @@ attributes ending in ``_``.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from pathlib import Path
 from typing import Any, ClassVar, Literal, Protocol
 
 import numpy as np
@@ -18,6 +19,7 @@ import torch
 from pydantic import BaseModel, ConfigDict, ValidationError
 
 from .errors import CapabilityError, ConfigError, InputError
+from .intensity import SpectrumBand
 from .signals import GroundMotions, LinearSystem, Responses
 
 KINDS = ("structure", "ground_motion", "preprocessor", "operator", "refiner")
@@ -185,6 +187,12 @@ class Structure(Component, ABC):
         if capability not in self.capabilities():
             raise self.missing(capability, needed_by)
 
+    def write_artifacts(self, directory: Path) -> list[Path]:
+        """Write what a reader of a report or a saved model should see of the structure
+        itself (e.g. a pushover curve as JSON and PNG) into ``directory``; return the files.
+        The default writes nothing."""
+        return []
+
 
 class GroundMotionSource(Component, ABC):
     """Where ground motions come from: a stochastic model or a set of records.
@@ -203,6 +211,11 @@ class GroundMotionSource(Component, ABC):
     @abstractmethod
     def sample(self, n: int, rng: np.random.Generator) -> GroundMotions:
         """``n`` records (a recorded set may return fewer and say so in a warning)."""
+
+    def target_spectrum(self) -> SpectrumBand | None:
+        """The response spectrum the records are made to follow, drawn under theirs in
+        reports (paper Fig. 10(b)); None (the default) when there is none."""
+        return None
 
 
 class PhysicsPreprocessor(Component, ABC):

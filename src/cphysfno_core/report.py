@@ -9,36 +9,11 @@ import numpy as np
 
 from . import figures
 from .config import ExperimentConfig
+from .data import SPLITS
+from .intensity import SpectrumBand
+from .paper_tables import PaperTable, paper_table
 from .pipeline import MODELS, Evaluation
-
-# Table 1 of the paper (Example 1, mean of 10 seeds): label -> (RMSE [m], relative L2).
-PAPER_EXAMPLE1 = {
-    "fno": ([0.0038, 0.0072, 0.0105, 0.0140, 0.0187], [0.9653, 0.9569, 0.9561, 0.9578, 0.9582]),
-    "c-physfno-els": (
-        [0.0022, 0.0040, 0.0054, 0.0070, 0.0102],
-        [0.5775, 0.5314, 0.4957, 0.4819, 0.5245],
-    ),
-    "c-physfno-modal": (
-        [0.0028, 0.0053, 0.0077, 0.0103, 0.0139],
-        [0.7196, 0.7059, 0.7025, 0.7034, 0.7134],
-    ),
-    "c-physfno-relaxed": (
-        [0.0025, 0.0048, 0.0070, 0.0094, 0.0126],
-        [0.6398, 0.6393, 0.6404, 0.6421, 0.6485],
-    ),
-    "refined-c-physfno-els": (
-        [0.0021, 0.0039, 0.0053, 0.0069, 0.0100],
-        [0.5492, 0.5200, 0.4882, 0.4780, 0.5208],
-    ),
-    "refined-c-physfno-modal": (
-        [0.0027, 0.0052, 0.0076, 0.0102, 0.0138],
-        [0.7015, 0.6820, 0.6832, 0.6850, 0.7002],
-    ),
-    "refined-c-physfno-relaxed": (
-        [0.0024, 0.0047, 0.0069, 0.0093, 0.0125],
-        [0.6180, 0.6282, 0.6302, 0.6310, 0.6402],
-    ),
-}
+from .registry import get_registry
 
 
 def describe_operators(config: ExperimentConfig) -> str:
@@ -57,22 +32,28 @@ def format_table(models: dict[str, dict], output_names: list[str], metric: str =
 
 
 def _markdown_table(
-    models: dict[str, dict], names: list[str], metric: str, digits: int, paper: dict | None
+    models: dict[str, dict],
+    names: list[str],
+    metric: str,
+    digits: int,
+    paper: PaperTable | None,
 ) -> list[str]:
-    index = 0 if metric == "rmse" else 1
     lines = ["| model | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
     for label, row in models.items():
         cells = [f"{v:.{digits}f}" for v in row[metric]]
-        if paper and label in paper and len(paper[label][index]) == len(cells):
-            cells = [
-                f"{c} ({p:.{digits}f})" for c, p in zip(cells, paper[label][index], strict=True)
-            ]
+        if paper:
+            cells = paper.beside(label, metric, cells, digits)
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
 
 
-def write_figures(evaluation: Evaluation, out: Path) -> list[Path]:
-    """The study's figures into ``out/figures`` (nothing if there is no trained model)."""
+def write_figures(
+    evaluation: Evaluation, out: Path, *, target: SpectrumBand | None = None
+) -> list[Path]:
+    """The study's figures into ``out/figures`` (nothing if there is no trained model).
+
+    ``target`` is the spectrum the ground motions were made to follow, drawn under the
+    records' spectra (paper Fig. 10(b)); without it the records' own band is drawn."""
     data = evaluation.data
     stages = evaluation.predictions
     if not stages:
@@ -150,6 +131,15 @@ def write_figures(evaluation: Evaluation, out: Path) -> list[Path]:
                 directory / "spectra.png",
             )
         )
+    written.append(
+        figures.motion_spectra(
+            data.ag[np.concatenate([data.rows(split) for split in SPLITS])],
+            data.dt,
+            directory / "motion_spectra.png",
+            target=target,
+            title=f"ground motions: {len(data.ag)} records",
+        )
+    )
     histories = {}
     for label in stages:
         model_json = out / MODELS / label / "model.json"
@@ -165,8 +155,18 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
     out = Path(out)
     names = list(evaluation.data.output_names)
     models = evaluation.metrics
-    paper = PAPER_EXAMPLE1 if config.output.paper_reference == "example1" else None
-    written = write_figures(evaluation, out) if config.output.figures else []
+    paper = paper_table(config.output.paper_reference)
+    written = []
+    if config.output.figures:
+        registry = get_registry()
+        source = registry.create(
+            "ground_motion", config.ground_motion.name, **config.ground_motion.params
+        )
+        structure = registry.create("structure", config.structure.name, **config.structure.params)
+        written = write_figures(evaluation, out, target=source.target_spectrum())
+        written += [
+            path for path in structure.write_artifacts(out / "structure") if path.suffix == ".png"
+        ]
     sizes = evaluation.data.sizes
     lines = [
         "# cphysfno study report",
@@ -183,10 +183,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         "model must beat.",
     ]
     if paper:
-        lines.append(
-            "Values in parentheses are the paper's Table 1 (mean of 10 seeds, "
-            "400/100/200 records, full training)."
-        )
+        lines.append(f"Values in parentheses are the paper's {paper.caption}.")
     lines += ["", "## Relative L2 error (test split)", ""]
     lines += _markdown_table(models, names, "rel_l2", 4, paper)
     lines += ["", "## RMSE (m, test split)", ""]
@@ -207,7 +204,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         lines.append(f"| {label} | {row['peak_r2']:.3f} | {' | '.join(cells)} |")
     if written:
         lines += ["", "## Figures", ""]
-        lines += [f"![{p.stem}](figures/{p.name})" for p in written]
+        lines += [f"![{p.stem}]({p.relative_to(out).as_posix()})" for p in written]
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path

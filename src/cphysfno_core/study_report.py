@@ -8,21 +8,21 @@ from typing import Any
 
 from . import figures
 from .config import ExperimentConfig
-from .report import PAPER_EXAMPLE1, describe_operators
+from .paper_tables import PaperTable, paper_table
+from .report import describe_operators
 from .study import RUNS, TABLE
 
 
-def _table(summary: dict[str, Any], metric: str, digits: int, paper: dict | None) -> list[str]:
+def _table(
+    summary: dict[str, Any], metric: str, digits: int, paper: PaperTable | None
+) -> list[str]:
     names = summary["output_names"]
-    index = 0 if metric == "rmse" else 1
     lines = ["| model | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
     for label, row in summary["models"].items():
         mean, std = row[metric]["mean"], row[metric]["std"]
         cells = [f"{m:.{digits}f} ± {s:.{digits}f}" for m, s in zip(mean, std, strict=True)]
-        if paper and label in paper:
-            cells = [
-                f"{c} ({p:.{digits}f})" for c, p in zip(cells, paper[label][index], strict=True)
-            ]
+        if paper:
+            cells = paper.beside(label, metric, cells, digits)
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
 
@@ -55,7 +55,7 @@ def _panels(n_outputs: int) -> list[int]:
 def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: str | Path) -> Path:
     """Write ``out/study.md`` and ``out/figures/sweep-<name>.png``; return the report path."""
     out = Path(out)
-    paper = PAPER_EXAMPLE1 if config.output.paper_reference == "example1" else None
+    paper = paper_table(config.output.paper_reference)
     names = summary["output_names"]
     sizes = summary["sizes"]
     lines = [
@@ -69,9 +69,7 @@ def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: s
         "- cells: mean ± standard deviation over seeds; `physics-*` rows are z alone",
     ]
     if paper:
-        lines.append(
-            "- in parentheses: the paper's Table 1 (10 seeds, 100 epochs, 400/100/200 records)"
-        )
+        lines.append(f"- in parentheses: the paper's {paper.caption}")
     lines += ["", "## Relative L2 error (test split)", "", *_table(summary, "rel_l2", 4, paper)]
     lines += ["", "## RMSE (m, test split)", "", *_table(summary, "rmse", 4, paper)]
     lines += _coverage(summary)

@@ -208,6 +208,15 @@ def test_spectra_figure_is_written(tmp_path, source, matched):
     assert records.is_file() and records.stat().st_size > 10_000
 
 
+def test_reports_get_the_targets_median_and_95_percent_band(source):
+    band = source.target_spectrum()
+    target = source.target
+    np.testing.assert_array_equal(band.periods, source.matching_periods)
+    np.testing.assert_allclose(band.median, target.median)
+    np.testing.assert_allclose(band.lower, target.median * np.exp(-1.959964 * target.ln_std))
+    np.testing.assert_allclose(band.upper, target.median * np.exp(1.959964 * target.ln_std))
+
+
 def test_registry_creates_it_by_name():
     source = cphysfno_core.create("ground_motion", "spectrum-compatible", magnitude=6.5)
     assert isinstance(source, SpectrumCompatible)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from cphysfno_opensees.loader import import_opensees
-from cphysfno_opensees.pushover import PushoverError
+from cphysfno_opensees.pushover import PushoverCurve, PushoverError
 from cphysfno_opensees.sac9_frame import Sac9Frame
 from cphysfno_opensees.sac9_model import build_frame
 
@@ -127,6 +127,13 @@ def test_pushover_goes_well_past_yield_and_is_computed_once(frame):
     yield_drift = curve.roof_drift_ratio[curve.elastic_points - 1]
     assert 0.003 < yield_drift < 0.015
     assert curve.roof_drift_ratio[-1] >= 2.5 * yield_drift
+
+
+def test_the_pushover_travels_with_reports_as_json_and_figure(frame, tmp_path):
+    document, figure = frame.write_artifacts(tmp_path / "structure")
+    saved = PushoverCurve.from_json(document.read_text())
+    assert np.array_equal(saved.story_stiffness, frame.pushover().story_stiffness)
+    assert figure.suffix == ".png" and figure.stat().st_size > 10_000
 
 
 def test_a_pushover_too_short_to_yield_is_an_error():

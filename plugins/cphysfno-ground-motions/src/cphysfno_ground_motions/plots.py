@@ -7,8 +7,7 @@ from pathlib import Path
 
 import numpy as np
 from cphysfno_core import GroundMotions
-from cphysfno_core.intensity import STANDARD_GRAVITY, response_spectrum
-from matplotlib.ticker import FormatStrFormatter, NullFormatter
+from cphysfno_core.intensity import STANDARD_GRAVITY
 
 from .target import TargetSpectrum
 
@@ -28,8 +27,9 @@ def plot_spectra(
     damping: float = 0.05,
     title: str = "",
 ) -> Path:
-    """Every record's pseudo-spectral acceleration (in g, log-log) with, if given, the
-    target's median and 2.5-97.5% band; written as a PNG to ``path``.
+    """Every record's pseudo-spectral acceleration (in g, log-log) with the target's median
+    and 2.5-97.5% band (or, without a target, the records' own); written as a PNG to
+    ``path`` by :func:`cphysfno_core.figures.motion_spectra`.
 
     Args:
         motions: the records.
@@ -43,39 +43,18 @@ def plot_spectra(
     Returns:
         The path written.
     """
-    if periods is None:
-        low, high = (target.periods[0], target.periods[-1]) if target is not None else (0.02, 5)
-        periods = np.geomspace(low, high, 60)
-    periods = np.asarray(periods, dtype=np.float64)
-    psa = response_spectrum(motions.acceleration, motions.dt, periods, damping)
-    figure = _figure(6.0, 4.5)
-    axes = figure.subplots()
-    g = STANDARD_GRAVITY
-    for row in psa.pseudo_acceleration:
-        axes.loglog(periods, row / g, color="0.65", linewidth=0.5, alpha=0.6)
-    axes.plot([], [], color="0.65", linewidth=0.8, label=f"{motions.n_records} records")
-    if target is not None:
-        axes.loglog(target.periods, target.median / g, color="k", linewidth=2, label="median")
-        for probability, label in ((0.025, "2.5% and 97.5%"), (0.975, None)):
-            axes.loglog(
-                target.periods,
-                target.quantile(probability) / g,
-                color="k",
-                linestyle="--",
-                linewidth=1.5,
-                label=label,
-            )
-    axes.set_xlabel("period T (s)")
-    axes.set_ylabel(f"Sa (g), {damping:.0%} damping")
-    axes.set_xlim(periods.min(), periods.max())
-    axes.xaxis.set_major_formatter(FormatStrFormatter("%g"))
-    axes.xaxis.set_minor_formatter(NullFormatter())
-    axes.grid(True, which="both", linewidth=0.3)
-    axes.legend(loc="lower left")
-    if title:
-        axes.set_title(title, fontsize=10)
-    figure.tight_layout()
-    return _save(figure, path)
+    from cphysfno_core.figures import motion_spectra
+
+    band = None if target is None else target.band()
+    return motion_spectra(
+        motions.acceleration,
+        motions.dt,
+        Path(path),
+        target=band,
+        periods=periods,
+        damping=damping,
+        title=title,
+    )
 
 
 def plot_records(

@@ -30,6 +30,7 @@ from typing import Literal
 
 import numpy as np
 from cphysfno_core import GroundMotions, GroundMotionSource, InputError, Params
+from cphysfno_core.intensity import SpectrumBand
 from pydantic import Field, PositiveFloat, ValidationInfo, field_validator
 
 from .errors import GroundMotionWarning
@@ -169,6 +170,10 @@ class SpectrumCompatible(GroundMotionSource):
         return bssa14_target(
             p.magnitude, p.rjb_km, p.vs30, p.mechanism, p.region, self.matching_periods
         )
+
+    def target_spectrum(self) -> SpectrumBand:
+        """The target's median and 2.5-97.5 % band at the matching periods (m/s^2)."""
+        return self.target.band()
 
     def sample(self, n: int, rng: np.random.Generator) -> GroundMotions:
         """``n`` matched records; the same generator state gives the same records.

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from cphysfno_core import InputError
-from cphysfno_core.intensity import STANDARD_GRAVITY
+from cphysfno_core.intensity import STANDARD_GRAVITY, SpectrumBand
 from scipy.stats import norm
 
 
@@ -37,6 +37,17 @@ class TargetSpectrum:
     def quantile(self, probability: float) -> np.ndarray:
         """``[P]`` PSA in m/s^2 not exceeded with ``probability`` at each period."""
         return self.median * np.exp(norm.ppf(probability) * self.ln_std)
+
+    def band(self, low: float = 0.025, high: float = 0.975) -> SpectrumBand:
+        """The median and the ``low``-``high`` quantile band, for figures and reports."""
+        return SpectrumBand(
+            self.periods,
+            self.median,
+            self.quantile(low),
+            self.quantile(high),
+            self.damping,
+            f"{low:.1%} and {high:.1%}",
+        )
 
     def sample(self, n: int, rng: np.random.Generator) -> np.ndarray:
         """``[n, P]`` spectra in m/s^2 drawn from the joint lognormal distribution.

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 from collections.abc import Callable
+from pathlib import Path
 from typing import Literal
 
 import numpy as np
@@ -148,6 +149,18 @@ class Sac9Frame(OpenSeesStructure):
         """
         config = dataclasses.replace(self.frame_config, elastic_interior=False)
         return _pushover(config, self.params.pushover_drift)
+
+    def write_artifacts(self, directory: Path) -> list[Path]:
+        """The pushover behind the equivalent linear system: ``pushover.json`` (the curve,
+        the initial slope and the story stiffnesses, SI units) and ``pushover.png``."""
+        curve = self.pushover()
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        document = directory / "pushover.json"
+        document.write_text(curve.to_json())
+        figure = directory / "pushover.png"
+        plot_pushover(curve, figure)
+        return [document, figure]
 
     def linear_system(self) -> LinearSystem:
         """The paper's equivalent linear system: the shear building of the pushover's
