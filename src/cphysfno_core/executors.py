@@ -51,8 +51,12 @@ def _dask_client(settings: DataConfig):
         with Client(settings.address) as client:
             yield client
         return
+    import dask
+
     workers = settings.workers or multiprocessing.cpu_count()
+    # Non-daemonic workers, so that a structure may run its records in child processes.
     with (
+        dask.config.set({"distributed.worker.daemon": False}),
         LocalCluster(
             n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
         ) as cluster,

@@ -30,6 +30,11 @@ def scaled(ag, dt, gain):
     return np.stack([gain * ag, np.full(ag.shape, float(os.getpid()))], axis=1)
 
 
+def scaled_once(ag, dt):
+    """[T, 2]: the record itself, and the worker's process id."""
+    return scaled(ag, dt, 1.0)
+
+
 def fails_on_negative_start(ag, dt):
     """Does not converge where the record starts below zero."""
     if ag[0] < 0:
@@ -131,3 +136,37 @@ def test_bad_arguments_are_input_errors(analyses, records, arguments):
     call = {"acceleration": records, "workers": 1, "records_per_worker": 1, **arguments}
     with pytest.raises(InputError):
         run_records(functools.partial(analyses.scaled, gain=1.0), dt=0.01, n_outputs=2, **call)
+
+
+def _run_in_daemon(analyse, records, queue):
+    try:
+        run_records(analyse, records, 0.01, 2)
+        queue.put("ran")
+    except PluginError as error:
+        queue.put(str(error))
+
+
+def test_a_daemonic_process_is_told_how_to_configure_its_workers(analyses, records):
+    import multiprocessing
+
+    context = multiprocessing.get_context("spawn")
+    queue = context.Queue()
+    process = context.Process(
+        target=_run_in_daemon, args=(analyses.scaled_once, records, queue), daemon=True
+    )
+    process.start()
+    message = queue.get(timeout=120)
+    process.join(timeout=30)
+    assert "distributed.worker.daemon = False" in message
+
+
+def test_records_run_inside_dask_workers_of_the_local_cluster(analyses, records):
+    from cphysfno_core.config import DataConfig
+    from cphysfno_core.executors import _dask_client
+
+    settings = DataConfig(executor="dask", workers=1)
+    with _dask_client(settings) as client:
+        run = functools.partial(run_records, workers=2)  # submit() takes workers itself
+        u, failures = client.submit(run, analyses.scaled_once, records, 0.01, 2).result(300)
+    assert failures == {}
+    np.testing.assert_array_equal(u[:, :, 0], records)

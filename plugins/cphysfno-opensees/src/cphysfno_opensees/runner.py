@@ -73,7 +73,17 @@ def run_records(
             ``records_per_worker`` is below 1.
         PluginError: ``analyse`` raised anything but AnalysisFailed (a bug, not a property
             of the record), or returned the wrong shape; the message holds its traceback.
+            Also when called in a daemonic process, which may not start workers (a Dask
+            worker started with ``distributed.worker.daemon: true``); the message says how
+            to configure the workers.
     """
+    if multiprocessing.current_process().daemon:
+        raise PluginError(
+            "OpenSees analyses run in worker processes, which this daemonic process may not "
+            "start: run Dask workers with distributed.worker.daemon = False (environment "
+            "DASK_DISTRIBUTED__WORKER__DAEMON=False, or `dask worker --no-nanny`); "
+            "cphysfno's own LocalCluster already does"
+        )
     acceleration = np.asarray(acceleration, dtype=np.float64)
     if acceleration.ndim != 2:
         raise InputError(f"acceleration must be [n_records, n_steps], got {acceleration.shape}")
