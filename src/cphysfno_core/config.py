@@ -48,6 +48,13 @@ class DataConfig(_Strict):
     n_val: int = Field(100, gt=0)
     n_test: int = Field(200, gt=0)
     seed: int = 0
+    group_by: str | None = Field(
+        None,
+        min_length=1,
+        description="metadata key of the ground motions whose records stay in one split "
+        "(e.g. 'rsn': both components of a recording and all their scaled copies); whole "
+        "groups are dealt to train, val and test, which must then be sums of group sizes",
+    )
     chunk_size: int = Field(100, gt=0, description="records per simulation task")
     executor: Literal["serial", "processes", "dask"] = "processes"
     workers: int | None = Field(

@@ -4,7 +4,9 @@ Work in progress lives in a folder beside the dataset, ``<name>.parts/``: a mani
 ground motions (``motions.npy``), and one ``chunk-NNNNN.npz`` per finished chunk, each
 written to a temporary name and renamed into place, so a file there is always whole. The
 motions are read back a chunk at a time; a source whose records are independent draws is
-also sampled block by block, so no stage holds all records in memory. Started again with the same
+also sampled block by block, so no stage holds all records in memory. With
+``data.group_by`` the motions are reordered, before any simulation, so that every group of
+records lies in one split (:func:`.grouped_split.grouped_order`). Started again with the same
 configuration, generation simulates only the missing chunks. When all are there they are
 assembled into the HDF5 file (again written aside and renamed), and the folder is removed:
 a dataset file at the final path is always complete.
@@ -24,12 +26,14 @@ from typing import Any
 import h5py
 import numpy as np
 
-from .config import ExperimentConfig
+from .config import DataConfig, ExperimentConfig
 from .data import SPLITS, check_dataset_identity, dataset_hash, parts_folder, versions
-from .errors import DatasetError
+from .errors import ConfigError, DatasetError
 from .executors import run_tasks
+from .grouped_split import grouped_order
 from .interfaces import GroundMotionSource
 from .registry import get_registry
+from .signals import GroundMotions
 from .simulation import ChunkResult, simulate_chunk
 
 SAMPLE_BLOCK = 256
@@ -77,18 +81,43 @@ class _StoredMotions:
             del mapped
 
 
-def _sample_into(source: GroundMotionSource, n: int, seed: int, target: Path) -> _StoredMotions:
-    """Draw ``n`` records from ``source`` and write them to ``target`` (``.npy``); a source
-    with independent draws is sampled :data:`SAMPLE_BLOCK` records at a time."""
-    rng = np.random.default_rng(seed)
-    block = SAMPLE_BLOCK if source.independent_draws else n
+def _sample_into(source: GroundMotionSource, data: DataConfig, target: Path) -> _StoredMotions:
+    """Draw ``data.n_records`` records from ``source`` and write them to ``target``
+    (``.npy``); a source with independent draws is sampled :data:`SAMPLE_BLOCK` records at
+    a time. With ``data.group_by`` the records are then reordered by :func:`grouped_order`
+    (the same generator, continued), so that each group lies in one split. Nothing is left
+    at ``target`` or beside it when this fails."""
+    rng = np.random.default_rng(data.seed)
     temporary = target.with_name(f".{target.name}.tmp")
-    written, stored = 0, None
+    try:
+        stored, groups = _draw(source, data, rng, temporary)
+        if data.group_by is not None:
+            sizes = (data.n_train, data.n_val, data.n_test)
+            try:
+                order = grouped_order(groups, sizes, rng)
+            except ConfigError as error:
+                raise ConfigError(f"data.group_by = '{data.group_by}': {error}") from None
+            _reorder(temporary, order)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    os.replace(temporary, target)
+    return _StoredMotions(target, stored.n_records, stored.n_steps, stored.dt)
+
+
+def _draw(
+    source: GroundMotionSource, data: DataConfig, rng: np.random.Generator, temporary: Path
+) -> tuple[_StoredMotions, list[str]]:
+    """The sampling loop of :func:`_sample_into`: the records written to ``temporary`` in
+    the order drawn, and the ``data.group_by`` key of each (empty without one)."""
+    n = data.n_records
+    block = SAMPLE_BLOCK if source.independent_draws else n
+    written, stored, groups = 0, None, []
     while written < n:
         wanted = min(block, n - written)
         motions = source.sample(wanted, rng)[:wanted]
         if stored is None:
-            stored = _StoredMotions(target, n, motions.n_steps, motions.dt)
+            stored = _StoredMotions(temporary, n, motions.n_steps, motions.dt)
             np.lib.format.open_memmap(temporary, mode="w+", dtype="f8", shape=(n, stored.n_steps))
         elif (motions.n_steps, motions.dt) != (stored.n_steps, stored.dt):
             raise DatasetError(
@@ -96,6 +125,8 @@ def _sample_into(source: GroundMotionSource, n: int, seed: int, target: Path) ->
                 f"{motions.n_steps} samples at {motions.dt} s after {stored.n_steps} at "
                 f"{stored.dt} s"
             )
+        if data.group_by is not None:
+            groups += _group_keys(motions, data.group_by, source.name, first=written)
         mapped = np.lib.format.open_memmap(temporary, mode="r+")
         mapped[written : written + motions.n_records] = motions.acceleration
         mapped.flush()
@@ -104,13 +135,39 @@ def _sample_into(source: GroundMotionSource, n: int, seed: int, target: Path) ->
         if motions.n_records < wanted:
             break
     if written < n:
-        temporary.unlink(missing_ok=True)
         raise DatasetError(
             f"ground motion '{source.name}' gave {written} records but the data section asks "
             f"for {n} (n_train + n_val + n_test): lower the split sizes"
         )
-    os.replace(temporary, target)
-    return stored
+    return stored, groups
+
+
+def _group_keys(motions: GroundMotions, key: str, source: str, first: int) -> list[str]:
+    """The ``key`` of every record's metadata, as comparable text; a record without it is
+    a ConfigError naming the record (numbered from ``first``) and the keys it has."""
+    keys = []
+    for i in range(motions.n_records):
+        metadata = motions.metadata[i] if motions.metadata else {}
+        if key not in metadata:
+            raise ConfigError(
+                f"data.group_by = '{key}': record {first + i} of ground motion '{source}' "
+                f"has no '{key}' in its metadata (it has: {', '.join(metadata) or 'none'})"
+            )
+        keys.append(json.dumps(metadata[key], sort_keys=True, default=str))
+    return keys
+
+
+def _reorder(path: Path, order: np.ndarray) -> None:
+    """Rewrite the records of the ``.npy`` file ``path`` in ``order``, a block at a time."""
+    rows = np.load(path, mmap_mode="r")
+    reordered = path.with_name(f"{path.name}.order")
+    out = np.lib.format.open_memmap(reordered, mode="w+", dtype="f8", shape=rows.shape)
+    for start in range(0, len(order), SAMPLE_BLOCK):
+        chunk = order[start : start + SAMPLE_BLOCK]
+        out[start : start + chunk.size] = rows[chunk]
+    out.flush()
+    del out, rows
+    os.replace(reordered, path)
 
 
 def _start(config: ExperimentConfig, parts: Path, identity: str) -> tuple[_StoredMotions, int]:
@@ -130,7 +187,7 @@ def _start(config: ExperimentConfig, parts: Path, identity: str) -> tuple[_Store
     source_spec = config.ground_motion
     source = get_registry().create("ground_motion", source_spec.name, **source_spec.params)
     parts.mkdir(parents=True, exist_ok=True)
-    stored = _sample_into(source, config.data.n_records, config.data.seed, parts / "motions.npy")
+    stored = _sample_into(source, config.data, parts / "motions.npy")
     record = {
         "config_hash": identity,
         "chunk_size": config.data.chunk_size,

@@ -204,6 +204,80 @@ def test_scaling_to_a_target_pga_and_widening_by_factors():
     assert motions.metadata[4]["base_index"] == 1
 
 
+def test_random_copies_are_scaled_log_uniformly_and_drawn_reproducibly():
+    source = Recorded(dt=0.01, duration=20.0, target_pga=3.0, scale_range=(0.5, 2.0), copies=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GroundMotionWarning)
+        base = source.all_records
+        motions = source.sample(120, np.random.default_rng(8))
+    assert base.n_records == 44 and motions.n_records == 120
+    # The documented draw: every [record, copy] factor first, then the permutation.
+    rng = np.random.default_rng(8)
+    factors = np.exp(rng.uniform(np.log(0.5), np.log(2.0), size=(44, 3)))
+    drawn = rng.permutation(132)[:120]
+    rows, copies = drawn // 3, drawn % 3
+    assert [m["set_index"] for m in motions.metadata] == rows.tolist()
+    assert [m["copy"] for m in motions.metadata] == copies.tolist()
+    np.testing.assert_allclose(
+        motions.acceleration, base.acceleration[rows] * factors[rows, copies][:, None], rtol=1e-14
+    )
+    scale_factor = np.array([m["scale_factor"] for m in motions.metadata])
+    pga = np.array([m["pga"] for m in motions.metadata])
+    np.testing.assert_allclose(pga, 3.0 * factors[rows, copies], rtol=1e-12)  # the copy's own
+    np.testing.assert_allclose(
+        scale_factor,
+        [
+            base.metadata[r]["scale_factor"] * factors[r, c]
+            for r, c in zip(rows, copies, strict=True)
+        ],
+    )
+    assert all(m["base_index"] == m["set_index"] for m in motions.metadata)
+    assert np.all((factors >= 0.5) & (factors <= 2.0)) and abs(np.log(factors).mean()) < 0.15
+    again = source.sample(120, np.random.default_rng(8))
+    np.testing.assert_array_equal(motions.acceleration, again.acceleration)
+    other = source.sample(120, np.random.default_rng(9))
+    assert not np.array_equal(motions.acceleration, other.acceleration)
+
+
+def test_records_can_start_shortly_before_their_shaking(library):
+    folder, flatfile = library
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GroundMotionWarning)
+        full = Recorded(folder=folder, flatfile=flatfile, dt=0.005).all_records
+        trimmed = Recorded(folder=folder, flatfile=flatfile, dt=0.005, pre_shaking=2.0)
+        motions = trimmed.all_records
+    # a^2 of the AT2 records follows exp(-(t - 8)^2 / 8), a normal density of sd 2 s: 5 %
+    # of its Arias intensity is reached near 8 - 1.645 * 2 = 4.71 s (sin^2 ripples aside).
+    starts = np.array([m["start_s"] for m in motions.metadata])
+    np.testing.assert_allclose(starts, 4.71 - 2.0, atol=0.15)
+    for record, start in enumerate(starts):  # the records at their native 0.005 s
+        if motions.metadata[record]["native_dt"] != 0.005:
+            continue
+        first = int(round(start / 0.005))
+        kept = motions.acceleration[record]
+        shared = min(kept.size, full.n_steps - first)
+        np.testing.assert_array_equal(kept[:shared], full.acceleration[record, first:][:shared])
+    chichi = [m["name"] for m in Recorded(record_set="far-field").all_records.metadata][36]
+    assert "CHICHI/CHY101" in chichi  # shakes only after 20 s of its 90 s
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GroundMotionWarning)
+        plain = Recorded(dt=0.01, duration=20.0).all_records
+        started = Recorded(dt=0.01, duration=20.0, pre_shaking=2.0).all_records
+    assert plain.metadata[36]["arias_intensity"] < 1e-3 * started.metadata[36]["arias_intensity"]
+
+
+def test_far_and_near_field_sets_together():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GroundMotionWarning)
+        source = Recorded(record_set=("far-field", "near-field"), dt=0.01, duration=20.0)
+        motions = source.all_records
+    assert motions.n_records == 100 and source.description.endswith("near-field sets")
+    sets = [m["fema_set"] for m in motions.metadata]
+    assert sets.count("farfield") == 44 and sets.count("nearfield_pulse") == 28
+    rsn = [m["rsn"] for m in motions.metadata]
+    assert len(set(rsn)) == 50 and all(rsn.count(r) == 2 for r in rsn)  # two components
+
+
 def test_scaling_to_a_target_spectral_acceleration():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", GroundMotionWarning)
@@ -230,6 +304,12 @@ def test_registry_creates_it_by_name():
         ({"sa_period": 1.0}, "recorded.sa_period: .*only used with target_sa"),
         ({"target_pga": 2.0, "target_sa": 2.0, "sa_period": 1.0}, "recorded.target_sa"),
         ({"record_set": "mid-field"}, "recorded.record_set"),
+        ({"record_set": ("near-field", "near-field-pulse")}, "recorded.record_set: .*share"),
+        ({"record_set": ()}, "recorded.record_set: .*at least one"),
+        ({"copies": 3}, "recorded.copies: .*give it"),
+        ({"scale_range": (2.0, 0.5)}, "recorded.scale_range: .*low <= high"),
+        ({"scale_range": (0.0, 2.0)}, "recorded.scale_range.0"),
+        ({"pre_shaking": -1.0}, "recorded.pre_shaking"),
         ({"scale_factors": ()}, "recorded.scale_factors"),
         ({"scale_factors": (1.0, -2.0)}, "recorded.scale_factors.1"),
         ({"dt": 0.01, "duration": 0.001}, "recorded.duration"),

