@@ -100,6 +100,21 @@ def _study(args: argparse.Namespace) -> int:
     return 0
 
 
+def _summarise(args: argparse.Namespace) -> int:
+    from .report import format_table
+    from .study import summarise_runs
+
+    summary = summarise_runs([Path(folder) for folder in args.runs])
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(summary, indent=2))
+    means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
+    print(f"relative L2 error per output, mean of {len(args.runs)} runs (test split):")
+    print(format_table(means, summary["output_names"]))
+    print(f"\nsummary: {out}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="cphysfno",
@@ -134,6 +149,11 @@ def build_parser() -> argparse.ArgumentParser:
     study.add_argument("config", help="experiment TOML file with a [study] section")
     study.add_argument("--out", required=True, help="output folder")
     study.set_defaults(func=_study)
+    text = "summarise finished run folders (e.g. one per seed) as study.json does"
+    summary = commands.add_parser("summarise", help=text, description=text)
+    summary.add_argument("runs", nargs="+", help="folders written by cphysfno run")
+    summary.add_argument("--out", required=True, help="JSON file to write")
+    summary.set_defaults(func=_summarise)
     return parser
 
 

@@ -138,6 +138,61 @@ def _mean_std(rows: list[list[float]]) -> dict[str, list[float]]:
     return {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()}
 
 
+def _models_over_runs(documents: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Label -> metric -> mean and std over the ``metrics.json`` documents of several runs,
+    for the labels of the first run."""
+    models: dict[str, dict[str, Any]] = {}
+    for label in documents[0]["models"]:
+        rows = [document["models"][label] for document in documents]
+        models[label] = {
+            key: _mean_std([row[key] for row in rows])
+            for key in ("rel_l2", "rmse", "coverage_68", "coverage_90")
+            if key in rows[0]
+        }
+    return models
+
+
+def summarise_runs(folders: list[Path]) -> dict[str, Any]:
+    """The summary :func:`summarise` writes, from finished ``cphysfno run`` folders (e.g.
+    one per training seed, made by hand or on several machines).
+
+    Args:
+        folders: run folders, each with ``metrics.json`` and ``config.json``; their split
+            sizes and outputs must agree.
+
+    Returns:
+        The schema of ``study.json`` without sweeps; ``seeds`` are the runs' training seeds
+        and ``device`` the machine summarising (the runs do not record theirs).
+
+    Raises:
+        ConfigError: a folder is not a finished run, or the runs do not match.
+    """
+    documents, configs = [], []
+    for folder in folders:
+        metrics, config = Path(folder) / "metrics.json", Path(folder) / "config.json"
+        if not (metrics.is_file() and config.is_file()):
+            raise ConfigError(
+                f"{folder} is not a finished run: it needs metrics.json and config.json"
+            )
+        documents.append(json.loads(metrics.read_text()))
+        configs.append(parse_config(json.loads(config.read_text())))
+    for folder, document in zip(folders[1:], documents[1:], strict=True):
+        for key in ("sizes", "output_names"):
+            if document[key] != documents[0][key]:
+                raise ConfigError(
+                    f"{folder} has {key} {document[key]}, {folders[0]} has {documents[0][key]}"
+                )
+    return {
+        "models": _models_over_runs(documents),
+        "sweeps": {},
+        "seeds": [config.training.seed for config in configs],
+        "epochs": configs[0].training.epochs,
+        "sizes": documents[0]["sizes"],
+        "output_names": documents[0]["output_names"],
+        "device": device(),
+    }
+
+
 def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
     """The study's results from the runs' ``metrics.json`` files.
 
@@ -150,14 +205,7 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
     """
     documents = {run.folder: json.loads((run.folder / "metrics.json").read_text()) for run in runs}
     table = [documents[run.folder] for run in runs if run.group == TABLE]
-    models: dict[str, dict[str, Any]] = {}
-    for label in table[0]["models"]:
-        rows = [document["models"][label] for document in table]
-        models[label] = {
-            key: _mean_std([row[key] for row in rows])
-            for key in ("rel_l2", "rmse", "coverage_68", "coverage_90")
-            if key in rows[0]
-        }
+    models = _models_over_runs(table)
     sweeps: dict[str, Any] = {}
     for name, sweep in config.study.sweeps.items():
         by_label: dict[str, dict[str, list]] = {}
