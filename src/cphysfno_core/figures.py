@@ -254,15 +254,28 @@ def sweep_boxes(
     width = 0.8 / max(len(labels), 1)
     for ax, dof in zip(axes[0], dofs, strict=True):
         for k, label in enumerate(labels):
+            color = f"C{k}"
             positions = np.arange(len(values)) + (k - (len(labels) - 1) / 2) * width
             data = [[seed[dof] for seed in errors[label].get(str(v), [])] for v in values]
             boxes = ax.boxplot(
-                data, positions=positions, widths=width * 0.9, patch_artist=True, manage_ticks=False
+                data,
+                positions=positions,
+                widths=width * 0.9,
+                patch_artist=True,
+                manage_ticks=False,
+                medianprops={"color": color, "lw": 1.5},
+                boxprops={"edgecolor": color},
+                whiskerprops={"color": color},
+                capprops={"color": color},
+                flierprops={"markeredgecolor": color},
             )
             for box in boxes["boxes"]:
-                box.set_facecolor(f"C{k}")
-                box.set_alpha(0.6)
-            ax.plot([], [], color=f"C{k}", lw=6, alpha=0.6, label=label)
+                box.set_facecolor(color)
+                box.set_alpha(0.35)
+            for x, seeds in zip(positions, data, strict=True):  # every seed, as few as they are
+                ax.plot([x] * len(seeds), seeds, "o", color=color, ms=3)
+            means = [np.mean(seeds) if seeds else np.nan for seeds in data]
+            ax.plot(positions, means, color=color, lw=1, label=f"{label} (mean)")
         ax.set_xticks(np.arange(len(values)), [str(v) for v in values])
         ax.set_xlabel(axis_label)
         ax.set_ylabel("relative L2 error (test)")
