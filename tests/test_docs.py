@@ -29,6 +29,9 @@ def test_site_builds_in_strict_mode(tmp_path):
     assert (tmp_path / "site" / "reference" / "config" / "index.html").exists()
     config_page = (tmp_path / "site" / "reference" / "config" / "index.html").read_text()
     assert "bouc-wen-shear-building" in config_page and "learning_rate" in config_page
+    assert "group_by" in config_page and "ground_motion_input" in config_page
+    results = (tmp_path / "site" / "benchmarks" / "index.html").read_text()
+    assert "Benchmark results" in results and "Reliability" in results
 
 
 @pytest.mark.parametrize(

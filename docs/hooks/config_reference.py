@@ -13,7 +13,10 @@ from cphysfno_core.registry import get_registry
 SECTIONS = [
     ("[data]", config_module.DataConfig),
     ("[training]", config_module.TrainingConfig),
+    ("[formulation]", config_module.FormulationConfig),
     ("[output]", config_module.OutputConfig),
+    ("[study]", config_module.StudyConfig),
+    ("[study.sweeps.<name>]", config_module.SweepConfig),
 ]
 
 
