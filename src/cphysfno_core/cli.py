@@ -83,7 +83,6 @@ def _stage(args: argparse.Namespace) -> int:
 
 
 def _study(args: argparse.Namespace) -> int:
-    from .report import format_table
     from .study import run_study
     from .study_report import write_study_report
 
@@ -92,27 +91,31 @@ def _study(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     summary = run_study(config, out)
     report = write_study_report(config, summary, out)
-    means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
-    print(f"relative L2 error per output, mean of {len(summary['seeds'])} seeds (test split):")
-    print(format_table(means, summary["output_names"]))
+    _print_means(summary, f"{len(summary['seeds'])} seeds")
     print(f"\nsummary: {out / 'study.json'}\nreport:  {report}")
     print(f"done in {time.perf_counter() - started:.1f} s", file=sys.stderr)
     return 0
 
 
 def _summarise(args: argparse.Namespace) -> int:
-    from .report import format_table
     from .study import summarise_runs
 
     summary = summarise_runs([Path(folder) for folder in args.runs])
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(summary, indent=2))
-    means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
-    print(f"relative L2 error per output, mean of {len(args.runs)} runs (test split):")
-    print(format_table(means, summary["output_names"]))
+    _print_means(summary, f"{len(args.runs)} runs")
     print(f"\nsummary: {out}")
     return 0
+
+
+def _print_means(summary: dict, over: str) -> None:
+    """Print the per-output mean relative L2 of every model of a study summary."""
+    from .report import format_table
+
+    means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
+    print(f"relative L2 error per output, mean of {over} (test split):")
+    print(format_table(means, summary["output_names"]))
 
 
 def build_parser() -> argparse.ArgumentParser:

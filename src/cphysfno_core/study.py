@@ -138,9 +138,11 @@ def _mean_std(rows: list[list[float]]) -> dict[str, list[float]]:
     return {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()}
 
 
-def _models_over_runs(documents: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
-    """Label -> metric -> mean and std over the ``metrics.json`` documents of several runs,
-    for the labels of the first run."""
+def _summary(
+    documents: list[dict[str, Any]], seeds: list[int], epochs: int, sweeps: dict[str, Any]
+) -> dict[str, Any]:
+    """The ``study.json`` document: per label (those of the first run) and metric, mean and
+    std over the ``metrics.json`` documents of the table's runs, with ``sweeps`` beside."""
     models: dict[str, dict[str, Any]] = {}
     for label in documents[0]["models"]:
         rows = [document["models"][label] for document in documents]
@@ -149,7 +151,15 @@ def _models_over_runs(documents: list[dict[str, Any]]) -> dict[str, dict[str, An
             for key in ("rel_l2", "rmse", "coverage_68", "coverage_90")
             if key in rows[0]
         }
-    return models
+    return {
+        "models": models,
+        "sweeps": sweeps,
+        "seeds": seeds,
+        "epochs": epochs,
+        "sizes": documents[0]["sizes"],
+        "output_names": documents[0]["output_names"],
+        "device": device(),
+    }
 
 
 def summarise_runs(folders: list[Path]) -> dict[str, Any]:
@@ -182,15 +192,8 @@ def summarise_runs(folders: list[Path]) -> dict[str, Any]:
                 raise ConfigError(
                     f"{folder} has {key} {document[key]}, {folders[0]} has {documents[0][key]}"
                 )
-    return {
-        "models": _models_over_runs(documents),
-        "sweeps": {},
-        "seeds": [config.training.seed for config in configs],
-        "epochs": configs[0].training.epochs,
-        "sizes": documents[0]["sizes"],
-        "output_names": documents[0]["output_names"],
-        "device": device(),
-    }
+    seeds = [config.training.seed for config in configs]
+    return _summary(documents, seeds, configs[0].training.epochs, sweeps={})
 
 
 def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
@@ -205,7 +208,6 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
     """
     documents = {run.folder: json.loads((run.folder / "metrics.json").read_text()) for run in runs}
     table = [documents[run.folder] for run in runs if run.group == TABLE]
-    models = _models_over_runs(table)
     sweeps: dict[str, Any] = {}
     for name, sweep in config.study.sweeps.items():
         by_label: dict[str, dict[str, list]] = {}
@@ -218,12 +220,4 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
             "values": sweep.values,
             "rel_l2": by_label,
         }
-    return {
-        "models": models,
-        "sweeps": sweeps,
-        "seeds": list(config.study.seeds),
-        "epochs": config.training.epochs,
-        "sizes": table[0]["sizes"],
-        "output_names": table[0]["output_names"],
-        "device": device(),
-    }
+    return _summary(table, list(config.study.seeds), config.training.epochs, sweeps)
