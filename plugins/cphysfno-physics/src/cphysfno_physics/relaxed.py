@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 from pydantic import Field
-from scipy.signal import resample_poly
 
 import cphysfno_core
 from cphysfno_core import GroundMotions, PhysicsPreprocessor, Structure
+from cphysfno_core.resampling import resample
 
 from .fitted import check_fitted
 
@@ -58,10 +58,10 @@ class RelaxedSolver(PhysicsPreprocessor):
 def coarse_motions(motions: GroundMotions, factor: int) -> GroundMotions:
     """``motions`` on the grid of step ``factor * dt``, anti-aliased.
 
-    Each record is zero-padded to a whole number of coarse steps, filtered by the
-    zero-phase polyphase FIR low-pass of :func:`scipy.signal.resample_poly` (Kaiser window,
-    cut-off at the coarse Nyquist frequency ``1 / (2 factor dt)``) and kept at every
-    ``factor``-th sample, so coarse sample ``j`` lies at ``j factor dt`` s.
+    Each record is zero-padded to a whole number of coarse steps and resampled by
+    :func:`cphysfno_core.resampling.resample` (a zero-phase polyphase FIR low-pass with its
+    cut-off at the coarse Nyquist frequency ``1 / (2 factor dt)``), so coarse sample ``j``
+    lies at ``j factor dt`` s.
 
     Args:
         motions: ``[n, T]`` accelerations in m/s^2 at step ``dt``.
@@ -76,7 +76,7 @@ def coarse_motions(motions: GroundMotions, factor: int) -> GroundMotions:
     n_coarse = int(np.ceil((motions.n_steps - 1) / factor)) + 1
     padded = np.zeros((motions.n_records, (n_coarse - 1) * factor + 1))
     padded[:, : motions.n_steps] = motions.acceleration
-    coarse = resample_poly(padded, 1, factor, axis=1)
+    coarse = resample(padded, motions.dt, factor * motions.dt)
     return GroundMotions(coarse, factor * motions.dt, motions.metadata)
 
 
