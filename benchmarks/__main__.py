@@ -7,6 +7,8 @@ import datetime
 import importlib
 import sys
 
+from cphysfno_core.allocator import retain_freed_memory
+
 from .common import format_rows, machine
 
 MODULES = (
@@ -29,6 +31,7 @@ def main(argv: list[str] | None = None) -> int:
     unknown = sorted(set(args.names) - set(MODULES))
     if unknown:
         parser.error(f"unknown benchmark {', '.join(unknown)}: choose from {', '.join(MODULES)}")
+    retain_freed_memory()
     rows = []
     for name in args.names or MODULES:
         module = importlib.import_module(f"benchmarks.{name}")
