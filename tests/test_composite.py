@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 import torch
+from cphysfno_refiners import LinearRegressionRefiner
 
 import cphysfno_core as cp
 
@@ -158,3 +159,24 @@ def test_a_refiner_calibrated_on_validation_is_fitted_on_the_validation_split(to
     assert model.refiner.fitted_on == 5
     refined = model.refine("toy-calibrated-refiner", gm[12:15], u[12:15])
     assert refined.refiner.fitted_on == 3
+
+
+@pytest.mark.parametrize(
+    ("split", "records"), [("training", slice(0, 12)), ("validation", slice(12, 17))]
+)
+def test_linear_regression_fits_on_the_split_it_names(toy_data, split, records):
+    structure, gm, u = toy_data
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator=("toy-operator", {"width": 4}),
+        refiner=LinearRegressionRefiner(n_points=10**6, calibration_split=split),
+        training={"batch_size": 4},
+    )
+    model.fit(gm[:12], u[:12], validation=(gm[12:17], u[12:17]), epochs=1, progress=None)
+    stages = model.predict_stages(gm[records])
+    expected = LinearRegressionRefiner(n_points=10**6).fit(
+        stages.z, stages.operator_output, u[records], np.random.default_rng(0)
+    )
+    np.testing.assert_allclose(model.refiner.weights_, expected.weights_, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(model.refiner.sigma_, expected.sigma_, rtol=1e-9)

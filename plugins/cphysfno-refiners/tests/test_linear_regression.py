@@ -159,7 +159,7 @@ def test_registry_creates_it_by_name() -> None:
     assert registry.get("refiner", "linear-regression") is LinearRegressionRefiner
     refiner = registry.create("refiner", "linear-regression", n_points=500)
     assert isinstance(refiner, LinearRegressionRefiner)
-    assert refiner.get_params() == {"n_points": 500}
+    assert refiner.get_params() == {"n_points": 500, "calibration_split": "training"}
 
 
 def test_predict_in_record_blocks_equals_the_formula(monkeypatch) -> None:

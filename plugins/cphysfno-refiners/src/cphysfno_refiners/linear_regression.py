@@ -2,10 +2,17 @@
 
 Per output DOF ``i``: ``u_i(t) = [1, z_i(t), û_i(t)] · w_i + ε_i(t)`` with
 ``ε_i ~ N(0, σ_i²)`` white, fitted by ordinary least squares on randomly sampled
-``(record, time)`` pairs of the training split.
+``(record, time)`` pairs of the training split (the paper) or of the validation split.
+
+On the training split the residuals are those of records the operator was fitted to: once
+it fits them more closely than new records, ``σ_i`` is too small and the intervals cover
+less than their level. ``calibration_split = "validation"`` fits on records the operator
+has not seen (it only chose the epoch on them).
 """
 
 from __future__ import annotations
+
+from typing import Literal
 
 import numpy as np
 from pydantic import Field
@@ -21,11 +28,14 @@ class LinearRegressionParams(Params):
     """Parameters of :class:`LinearRegressionRefiner`.
 
     Attributes:
-        n_points: number of ``(record, time)`` pairs drawn from the training split for the
-            fit (the paper uses 1000); all pairs are used when there are fewer.
+        n_points: number of ``(record, time)`` pairs drawn from the calibration split for
+            the fit (the paper uses 1000); all pairs are used when there are fewer.
+        calibration_split: the split the pairs are drawn from, ``"training"`` (the paper)
+            or ``"validation"``.
     """
 
     n_points: int = Field(1000, gt=N_WEIGHTS)
+    calibration_split: Literal["training", "validation"] = "training"
 
 
 class LinearRegressionRefiner(Refiner):
@@ -43,10 +53,15 @@ class LinearRegressionRefiner(Refiner):
     name = "linear-regression"
     Params = LinearRegressionParams
 
+    @property
+    def calibration_split(self) -> Literal["training", "validation"]:
+        """The split :meth:`fit` is given, as the parameter of that name says."""
+        return self.params.calibration_split
+
     def fit(
         self, z: np.ndarray, u_hat: np.ndarray, u: np.ndarray, rng: np.random.Generator
     ) -> LinearRegressionRefiner:
-        """Fit on the training split.
+        """Fit on the split :attr:`calibration_split` names.
 
         Args:
             z: ``[n, T, dof]`` physics-based intermediate displacements in m.
