@@ -6,37 +6,19 @@ import json
 from pathlib import Path
 
 import numpy as np
+from toy_experiment import toy_experiment
 
 from cphysfno_core import load_dataset, metrics
 
 SCRIPT = Path(__file__).parents[1] / "examples" / "ablation" / "run_ablation.py"
 
-BASE = """
-[structure]
-name = "toy-structure"
-cubic = 40.0
-
-[ground_motion]
-name = "toy-source"
-n_steps = 80
-
-[[preprocessor]]
-name = "toy-linear"
-
-[operator]
-name = "toy-operator"
-width = 4
-
-[data]
-n_train = 8
-n_val = 4
-n_test = 5
-executor = "serial"
-
-[training]
-epochs = 2
-batch_size = 4
-"""
+BASE = toy_experiment(
+    structure={"cubic": 40.0},
+    n_steps=80,
+    operator={"width": 4},
+    data={"n_train": 8, "n_val": 4, "n_test": 5},
+    training={"epochs": 2, "batch_size": 4},
+)
 
 ABLATION = """
 base = "base.toml"

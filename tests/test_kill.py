@@ -9,32 +9,18 @@ import time
 from pathlib import Path
 
 import numpy as np
+from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
 
-CONFIG = """
-[structure]
-name = "toy-structure"
-cubic = 20.0
-delay_s = {delay}
 
-[ground_motion]
-name = "toy-source"
-n_steps = 80
-
-[[preprocessor]]
-name = "toy-linear"
-
-[operator]
-name = "toy-operator"
-
-[data]
-n_train = 14
-n_val = 4
-n_test = 4
-chunk_size = 2
-executor = "serial"
-"""
+def _config(delay_s: float) -> str:
+    """The toy experiment whose every simulation waits ``delay_s`` seconds: 11 chunks of 2."""
+    return toy_experiment(
+        structure={"cubic": 20.0, "delay_s": delay_s},
+        n_steps=80,
+        data={"n_train": 14, "n_val": 4, "n_test": 4, "chunk_size": 2},
+    )
 
 
 def _environment() -> dict[str, str]:
@@ -53,7 +39,7 @@ def _done(parts: Path) -> int:
 
 def test_sigkill_at_any_point_then_the_same_command_finishes(toy_registry, tmp_path):
     config = tmp_path / "slow.toml"
-    config.write_text(CONFIG.format(delay=0.25))
+    config.write_text(_config(0.25))
     out = tmp_path / "out"
     command = [
         sys.executable,
@@ -83,7 +69,7 @@ def test_sigkill_at_any_point_then_the_same_command_finishes(toy_registry, tmp_p
     assert f"resuming: {seen[-1]} of 11 chunks already done" in finished.stderr
 
     reference_config = tmp_path / "fast.toml"
-    reference_config.write_text(CONFIG.format(delay=0.0))
+    reference_config.write_text(_config(0.0))
     reference = cp.generate_dataset(
         cp.load_config(reference_config), tmp_path / "ref.h5", progress=False
     )

@@ -8,6 +8,7 @@ import types
 import numpy as np
 import pytest
 import toy_components
+from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
 from cphysfno_core import figures
@@ -52,35 +53,15 @@ def registry():
     set_registry(None)
 
 
-CONFIG = """
-[structure]
-name = "pushed-structure"
-
-[ground_motion]
-name = "banded-source"
-n_steps = 100
-
-[[preprocessor]]
-name = "toy-linear"
-
-[operator]
-name = "toy-operator"
-width = 4
-
-[data]
-n_train = 6
-n_val = 2
-n_test = 2
-executor = "serial"
-
-[training]
-epochs = 1
-batch_size = 3
-
-[output]
-baseline = false
-paper_reference = "example1"
-"""
+CONFIG = toy_experiment(
+    structure={"name": "pushed-structure"},
+    ground_motion="banded-source",
+    n_steps=100,
+    operator={"width": 4},
+    data={"n_train": 6, "n_val": 2, "n_test": 2},
+    training={"epochs": 1, "batch_size": 3},
+    output={"baseline": False, "paper_reference": "example1"},
+)
 
 
 def test_report_draws_the_target_spectrum_and_embeds_the_structures_figures(registry, tmp_path):

@@ -4,6 +4,7 @@ weights as an uninterrupted run (CPU, same seed)."""
 import numpy as np
 import pytest
 import torch
+from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
 from cphysfno_core import pipeline
@@ -58,26 +59,12 @@ def test_a_corrupt_checkpoint_is_a_clear_error(toy_registry, tmp_path):
         _fit(structure, gm, u, progress=None, checkpoint=checkpoint, resume=True)
 
 
-CONFIG = """
-[structure]
-name = "toy-structure"
-cubic = 30.0
-[ground_motion]
-name = "toy-source"
-n_steps = 80
-[[preprocessor]]
-name = "toy-linear"
-[operator]
-name = "toy-operator"
-[data]
-n_train = 8
-n_val = 3
-n_test = 3
-executor = "serial"
-[training]
-epochs = 4
-batch_size = 4
-"""
+CONFIG = toy_experiment(
+    structure={"cubic": 30.0},
+    n_steps=80,
+    data={"n_train": 8, "n_val": 3, "n_test": 3},
+    training={"epochs": 4, "batch_size": 4},
+)
 
 
 def test_train_resume_keeps_finished_models_and_continues_the_interrupted_one(

@@ -6,6 +6,7 @@ import json
 import numpy as np
 import pytest
 import toy_components
+from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
 from cphysfno_core import pipeline, study
@@ -29,32 +30,16 @@ BASE = {
         "sweep_preprocessors": ["toy-linear"],
     },
 }
-TOML = """
-[structure]
-name = "toy-structure"
-[ground_motion]
-name = "toy-source"
-n_steps = 60
-[[preprocessor]]
-name = "toy-linear"
-[operator]
-name = "toy-operator"
-width = 4
-[data]
-n_train = 8
-n_val = 3
-n_test = 4
-chunk_size = 8
-executor = "serial"
-[training]
-epochs = 1
-batch_size = 4
-[study]
-seeds = [3, 4]
-[study.sweeps.size]
-field = "training.train_records"
-values = [2, 8]
-"""
+TOML = toy_experiment(
+    n_steps=60,
+    operator={"width": 4},
+    data={"n_train": 8, "n_val": 3, "n_test": 4, "chunk_size": 8},
+    training={"epochs": 1, "batch_size": 4},
+    study={
+        "seeds": [3, 4],
+        "sweeps": {"size": {"field": "training.train_records", "values": [2, 8]}},
+    },
+)
 
 
 def _config(**changes):

@@ -4,45 +4,24 @@ import json
 
 import numpy as np
 import pytest
+from toy_experiment import toy_experiment
 
 from cphysfno_core import ConfigError
 from cphysfno_core.cli import main
 from cphysfno_core.study import summarise_runs
 
-CONFIG = """
-[structure]
-name = "toy-structure"
-
-[ground_motion]
-name = "toy-source"
-n_steps = 60
-
-[[preprocessor]]
-name = "toy-linear"
-
-[operator]
-name = "toy-operator"
-width = 4
-
-[data]
-n_train = 6
-n_val = 2
-n_test = {n_test}
-executor = "serial"
-
-[training]
-epochs = 1
-batch_size = 3
-seed = {seed}
-
-[output]
-figures = false
-"""
-
 
 def _run(tmp_path, seed, n_test=3):
     config = tmp_path / f"seed-{seed}-{n_test}.toml"
-    config.write_text(CONFIG.format(seed=seed, n_test=n_test))
+    config.write_text(
+        toy_experiment(
+            n_steps=60,
+            operator={"width": 4},
+            data={"n_train": 6, "n_val": 2, "n_test": n_test},
+            training={"epochs": 1, "batch_size": 3, "seed": seed},
+            output={"figures": False},
+        )
+    )
     out = tmp_path / f"run-{seed}-{n_test}"
     assert main(["run", str(config), "--out", str(out)]) == 0
     return out
