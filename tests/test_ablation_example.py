@@ -71,3 +71,4 @@ def test_every_row_is_trained_as_its_tables_say_and_scored_on_the_test_split(
         assert set(row["refined"]) == {"plain", "calibrated"}
         for refined in row["refined"].values():
             assert len(refined["coverage_68"]) == len(refined["coverage_90"]) == 2
+            assert all(0.0 <= se <= 0.5 for se in refined["coverage_90_se"])

@@ -66,6 +66,17 @@ def test_interval_coverage_counts_points_inside_by_hand():
     np.testing.assert_allclose(metrics.interval_coverage(lower, upper, truth), [0.5])
 
 
+def test_coverage_standard_error_is_over_records_by_hand():
+    truth = np.zeros((3, 2, 1))
+    lower = np.array([[-1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]])[..., None]  # 2, 1, 0 inside
+    upper = lower + 2.0
+    # per-record coverage 1, 0.5, 0: mean 0.5, sample std 0.5, over sqrt(3) records
+    np.testing.assert_allclose(metrics.interval_coverage(lower, upper, truth), [0.5])
+    np.testing.assert_allclose(
+        metrics.coverage_standard_error(lower, upper, truth), [0.5 / np.sqrt(3.0)]
+    )
+
+
 def test_a_refiners_default_interval_is_the_gaussian_quantile_band():
     from toy_components import ToyRefiner
 

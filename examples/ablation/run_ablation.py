@@ -6,7 +6,8 @@ config's operator, training and formulation, changed by the row's ``operator``,
 ``training`` and ``formulation`` tables. Every trained row is refined by each
 ``[[refiner]]`` (fitted on the split its ``calibration_split`` names) and scored on the test
 split: relative L2 and RMSE per output of the operator and of each refined mean, and the
-test coverage of each refiner's 68 % and 90 % intervals. Trained models are saved under
+test coverage of each refiner's 68 % and 90 % intervals with its standard error over the
+test records. Trained models are saved under
 ``--out`` and the row in training is checkpointed after every epoch, so a run that was
 stopped continues where it stopped; the JSON is rewritten after every row.
 
@@ -79,7 +80,9 @@ def refined_scores(
     row = scores(mean, truth)
     for level in LEVELS:
         lower, upper = refined.refiner.interval(test.z, test.operator_output, level)
-        row[f"coverage_{round(100 * level)}"] = metrics.interval_coverage(
+        percent = round(100 * level)
+        row[f"coverage_{percent}"] = metrics.interval_coverage(lower, upper, truth).tolist()
+        row[f"coverage_{percent}_se"] = metrics.coverage_standard_error(
             lower, upper, truth
         ).tolist()
     row["calibration_split"] = refined.refiner.calibration_split

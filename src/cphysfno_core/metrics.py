@@ -53,6 +53,23 @@ def coverage(mean: np.ndarray, std: np.ndarray, truth: np.ndarray, k: float = 1.
 
 def interval_coverage(lower: np.ndarray, upper: np.ndarray, truth: np.ndarray) -> np.ndarray:
     """Fraction of (record, time) points per DOF where ``lower <= truth <= upper``."""
+    return np.mean(_inside(lower, upper, truth), axis=(0, 1))
+
+
+def coverage_standard_error(lower: np.ndarray, upper: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """``[dof]`` standard error of :func:`interval_coverage` over the records drawn.
+
+    The points of one record are not independent, the records are: this is the standard
+    deviation over records of each record's own coverage, over the square root of the
+    number of records (how far the measured coverage may sit from its expectation by the
+    draw of the records alone).
+    """
+    per_record = np.mean(_inside(lower, upper, truth), axis=1)
+    return per_record.std(axis=0, ddof=1) / np.sqrt(per_record.shape[0])
+
+
+def _inside(lower: np.ndarray, upper: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """``[n, T, dof]`` whether ``lower <= truth <= upper`` at each point."""
     lower, truth = _pair(lower, truth)
     upper = np.broadcast_to(np.asarray(upper, dtype=np.float64), truth.shape)
-    return np.mean((lower <= truth) & (truth <= upper), axis=(0, 1))
+    return (lower <= truth) & (truth <= upper)
