@@ -1,5 +1,6 @@
 """``examples/ablation/run_ablation.py`` on toy parts: every row trained as its tables say,
-scored against the test split, and refined by every refiner."""
+scored against the test split, refined by every refiner, and ensembles scored on their
+rows' mean."""
 
 import importlib.util
 import json
@@ -8,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from toy_experiment import toy_experiment
 
-from cphysfno_core import load_dataset, metrics
+from cphysfno_core import CompositeModel, load_dataset, metrics
 
 SCRIPT = Path(__file__).parents[1] / "examples" / "ablation" / "run_ablation.py"
 
@@ -41,6 +42,10 @@ name = "Residual, wider!"
 formulation = { residual = true }
 operator = { width = 6 }
 training = { epochs = 1 }
+
+[[ensemble]]
+name = "both"
+rows = ["as the base", "Residual, wider!"]
 """
 
 
@@ -72,3 +77,8 @@ def test_every_row_is_trained_as_its_tables_say_and_scored_on_the_test_split(
         for refined in row["refined"].values():
             assert len(refined["coverage_68"]) == len(refined["coverage_90"]) == 2
             assert all(0.0 <= se <= 0.5 for se in refined["coverage_90_se"])
+    members = [CompositeModel.load(out / name) for name in ("as-the-base", "residual-wider")]
+    mean = np.mean([m.predict_stages(data.motions("test")).operator_output for m in members], 0)
+    ensemble = document["ensembles"]["both"]
+    np.testing.assert_allclose(ensemble["rel_l2"], metrics.relative_l2(mean, truth), rtol=1e-6)
+    assert ensemble["rows"] == ["as the base", "Residual, wider!"]
