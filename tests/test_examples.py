@@ -99,3 +99,19 @@ def _to_toml(data: dict) -> str:
             for key, value in table.items():
                 lines.append(f"{key} = {json.dumps(value)}")
     return "\n".join(lines) + "\n"
+
+
+def test_the_beyond_preset_is_the_best_ablation_row():
+    ablation = tomllib.loads((EXAMPLES / "ablation" / "bouc-wen-ablation.toml").read_text())
+    row = next(r for r in ablation["row"] if "width 96" in r["name"] and "seed" not in r["name"])
+    base = cp.load_config(EXAMPLES / "ablation" / ablation["base"])
+    preset = cp.load_config(EXAMPLES / "bouc-wen-beyond.toml")
+    assert preset.operator[0].params == {**base.operator[0].params, **row["operator"]}
+    assert preset.formulation.model_dump() == {
+        **base.formulation.model_dump(),
+        **row["formulation"],
+    }
+    training = {**base.training.model_dump(), **row["training"], "seed": ablation["seed"]}
+    assert preset.training.model_dump() == training
+    assert preset.data.model_dump() == base.data.model_dump()
+    assert [p.name for p in preset.preprocessor] == [ablation["preprocessor"]]
