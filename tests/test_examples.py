@@ -115,3 +115,19 @@ def test_the_beyond_preset_is_the_best_ablation_row():
     assert preset.training.model_dump() == training
     assert preset.data.model_dump() == base.data.model_dump()
     assert [p.name for p in preset.preprocessor] == [ablation["preprocessor"]]
+
+
+def test_the_cpu_configs_of_examples_2_and_3_are_the_full_ones_cut_down():
+    for full, cpu, copies in [("bridge", "bridge-cpu", None), ("sac9-frame", "sac9-frame-cpu", 4)]:
+        paper = cp.load_config(EXAMPLES / f"{full}.toml").to_dict()
+        reduced = cp.load_config(EXAMPLES / f"{cpu}.toml").to_dict()
+        assert reduced["data"]["n_train"] < paper["data"]["n_train"]
+        assert reduced["training"]["epochs"] < paper["training"]["epochs"]
+        for section in ("data", "training"):
+            for key in ("n_train", "n_val", "n_test", "epochs", "decay_step"):
+                paper[section].pop(key, None)
+                reduced[section].pop(key, None)
+        if copies is not None:
+            assert reduced["ground_motion"].pop("copies") == copies
+            paper["ground_motion"].pop("copies")
+        assert reduced == paper

@@ -233,6 +233,24 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     return path
 
 
+def progress_line(done: int, total: int, elapsed: float) -> str:
+    """``"50/400 records (6.6 s per record, about 38 min left)"`` after ``elapsed`` s.
+
+    The rate is records per second when at least one record a second is made, seconds per
+    record otherwise; the time left assumes the rate so far.
+    """
+    rate = done / max(elapsed, 1e-9)
+    speed = f"{rate:.0f} records/s" if rate >= 1.0 else f"{1.0 / rate:.1f} s per record"
+    left = (total - done) / rate if rate > 0 else float("inf")
+    if left < 90:
+        remaining = f"about {left:.0f} s left"
+    elif left < 5400:
+        remaining = f"about {left / 60:.0f} min left"
+    else:
+        remaining = f"about {left / 3600:.1f} h left"
+    return f"{done}/{total} records ({speed}, {remaining})"
+
+
 def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) -> None:
     structure_spec = {"name": structure.name, **structure.get_params()}
     pp_specs = [p.to_dict() for p in config.preprocessor]
@@ -259,12 +277,8 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
         _save_npz(_chunk_path(parts, i), arrays)
         finished += stop - start
         if progress:
-            rate = finished / max(time.perf_counter() - started, 1e-9)
-            print(
-                f"  simulated {finished}/{total} records ({rate:.0f} records/s)",
-                file=sys.stderr,
-                flush=True,
-            )
+            line = progress_line(finished, total, time.perf_counter() - started)
+            print(f"  simulated {line}", file=sys.stderr, flush=True)
 
     def arguments(i: int) -> tuple[Any, ...]:
         return structure_spec, pp_specs, motions.rows(*bounds[i]), motions.dt
