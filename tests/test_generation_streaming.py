@@ -87,7 +87,10 @@ def test_a_source_that_changes_its_grid_between_blocks_is_named(requested, monke
 
 
 def test_progress_line_gives_the_rate_in_the_unit_that_reads_and_the_time_left():
-    assert generation.progress_line(500, 1000, 2.0) == "500/1000 records (250 records/s, about 2 s left)"
+    assert (
+        generation.progress_line(500, 1000, 2.0)
+        == "500/1000 records (250 records/s, about 2 s left)"
+    )
     assert generation.progress_line(50, 400, 330.0) == (
         "50/400 records (6.6 s per record, about 38 min left)"
     )

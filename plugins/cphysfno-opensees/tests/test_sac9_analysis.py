@@ -17,6 +17,7 @@ from cphysfno_opensees.sac9_analysis import (
     transient_response,
 )
 from cphysfno_opensees.sac9_model import FrameConfig
+from cphysfno_opensees.transient import Abandoned
 
 DT = 0.01
 DAMPING = Rayleigh.matching(2.0 * np.pi / 2.37, 2.0 * np.pi / 0.51, 0.03)
@@ -55,6 +56,18 @@ def test_a_record_past_the_drift_limit_is_analysed_with_fibres_everywhere():
     assert relative(ends, fibres) > 1e-4  # the interior yielded: the shortcut is not exact
     answer = analyse_record(ENDS_ONLY, SolverConfig(), DAMPING, pulse(3.0), DT)
     assert np.array_equal(answer, fibres)
+
+
+def test_the_first_analysis_stops_once_the_drift_passes_the_limit():
+    ends, heights = transient_response(ENDS_ONLY, SolverConfig(), DAMPING, pulse(3.0), DT)
+    drift = np.abs(np.diff(ends, axis=1, prepend=0.0)) / np.diff(heights, prepend=0.0)
+    first_past = int(np.argmax(drift.max(axis=1) > INTERIOR_DRIFT_LIMIT))
+    with pytest.raises(Abandoned) as raised:
+        transient_response(
+            ENDS_ONLY, SolverConfig(), DAMPING, pulse(3.0), DT, drift_limit=INTERIOR_DRIFT_LIMIT
+        )
+    stopped = round(raised.value.time_s / DT)
+    assert first_past <= stopped < first_past + 100
 
 
 def test_tight_newton_agrees_with_the_default_solver():

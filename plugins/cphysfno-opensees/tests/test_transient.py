@@ -8,7 +8,7 @@ import pickle
 import numpy as np
 import pytest
 from cphysfno_opensees.loader import import_opensees
-from cphysfno_opensees.transient import AnalysisFailed, integrate
+from cphysfno_opensees.transient import Abandoned, AnalysisFailed, integrate
 
 
 class ScriptedOps:
@@ -196,3 +196,18 @@ def test_opensees_that_cannot_converge_raises_analysis_failed():
     ops.analysis("Transient")
     with pytest.raises(AnalysisFailed, match="did not converge at t = "):
         integrate(ops, 54, dt, lambda: [ops.nodeDisp(2, 1)])
+
+
+def test_abandon_sees_each_block_of_rows_once_and_stops_the_analysis():
+    ops = ScriptedOps(lambda time, step, name: False)
+    blocks = []
+
+    def abandon(rows):
+        blocks.append(rows[:, 0].copy())
+        return rows[-1, 0] > 0.45
+
+    with pytest.raises(Abandoned) as raised:
+        integrate(ops, 20, 0.1, lambda: [ops.time], abandon=abandon, check_every=3)
+    assert raised.value.time_s == pytest.approx(0.6)
+    np.testing.assert_allclose(np.concatenate(blocks), 0.1 * np.arange(1, 7))
+    assert ops.time == pytest.approx(0.6)  # no step after the one that was judged

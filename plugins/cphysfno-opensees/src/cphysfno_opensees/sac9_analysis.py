@@ -16,7 +16,7 @@ import numpy as np
 
 from .loader import import_opensees
 from .sac9_model import FrameConfig, build_frame
-from .transient import integrate
+from .transient import Abandoned, integrate
 
 
 @dataclass(frozen=True)
@@ -87,7 +87,8 @@ def analyse_record(
     with Newmark's average acceleration rule at ``dt``, one step per sample, through
     :func:`cphysfno_opensees.transient.integrate` (which retries a step that does not
     converge). A model with elastic interior sections whose peak story drift ratio
-    passes :data:`INTERIOR_DRIFT_LIMIT` is analysed again with fibres everywhere.
+    passes :data:`INTERIOR_DRIFT_LIMIT` is analysed again with fibres everywhere; its
+    first analysis stops within 100 steps of the drift passing the limit.
 
     Args:
         frame_config: the model.
@@ -102,11 +103,18 @@ def analyse_record(
     Raises:
         AnalysisFailed: a step that nothing could complete.
     """
-    u, heights = transient_response(frame_config, solver, damping, acceleration, dt)
-    if frame_config.elastic_interior and peak_drift_ratio(u, heights) > INTERIOR_DRIFT_LIMIT:
-        fibres = dataclasses.replace(frame_config, elastic_interior=False)
-        u, _ = transient_response(fibres, solver, damping, acceleration, dt)
-    return u
+    if not frame_config.elastic_interior:
+        return transient_response(frame_config, solver, damping, acceleration, dt)[0]
+    try:
+        u, heights = transient_response(
+            frame_config, solver, damping, acceleration, dt, drift_limit=INTERIOR_DRIFT_LIMIT
+        )
+        if peak_drift_ratio(u, heights) <= INTERIOR_DRIFT_LIMIT:
+            return u
+    except Abandoned:
+        pass
+    fibres = dataclasses.replace(frame_config, elastic_interior=False)
+    return transient_response(fibres, solver, damping, acceleration, dt)[0]
 
 
 def peak_drift_ratio(u: np.ndarray, heights: np.ndarray) -> float:
@@ -123,9 +131,15 @@ def transient_response(
     damping: Rayleigh,
     acceleration: np.ndarray,
     dt: float,
+    drift_limit: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """One OpenSees analysis of the model as configured (no fallback), as
     :func:`analyse_record` describes it.
+
+    Args:
+        drift_limit: with a story drift ratio above it in any block of 100 steps, the
+            analysis stops with :class:`~cphysfno_opensees.transient.Abandoned`; None: run
+            to the end.
 
     Returns:
         ``[T, 9]`` floor displacements (m) and the ``[9]`` floor elevations above the
@@ -145,12 +159,22 @@ def transient_response(
     def read() -> list[float]:
         return [ops.nodeDisp(node, 1) for node in floors]
 
+    def past_limit(rows: np.ndarray) -> bool:
+        return peak_drift_ratio(rows, frame.heights) > drift_limit
+
     # The loop makes no reference cycles; the collector would only walk the heap of the
     # worker (torch included) every few hundred steps, about a sixth of the run time.
     collecting = gc.isenabled()
     gc.disable()
     try:
-        u = integrate(ops, len(acceleration) - 1, dt, read, algorithm=solver.algorithm)
+        u = integrate(
+            ops,
+            len(acceleration) - 1,
+            dt,
+            read,
+            algorithm=solver.algorithm,
+            abandon=None if drift_limit is None else past_limit,
+        )
     finally:
         if collecting:
             gc.enable()

@@ -26,6 +26,18 @@ SPLITS = (2, 4, 8)
 """Substeps a failed step is split into, in order, once the ladder fails at the full step."""
 
 
+class Abandoned(Exception):
+    """The caller's ``abandon`` test of :func:`integrate` ended the analysis early.
+
+    Attributes:
+        time_s: analysis time in s when it was abandoned.
+    """
+
+    def __init__(self, time_s: float) -> None:
+        self.time_s = float(time_s)
+        super().__init__(f"abandoned at t = {self.time_s:.2f} s")
+
+
 class AnalysisFailed(RuntimeError):
     """An OpenSees transient analysis that did not converge.
 
@@ -50,6 +62,8 @@ def integrate(
     read: Callable[[], Sequence[float]],
     *,
     algorithm: Sequence[Any] = ("Newton",),
+    abandon: Callable[[np.ndarray], bool] | None = None,
+    check_every: int = 100,
 ) -> np.ndarray:
     """Run an already-defined transient analysis for ``n_steps`` steps of ``dt`` s.
 
@@ -68,6 +82,11 @@ def integrate(
         read: returns the ``n_out`` quantities to record (e.g. displacements in m).
         algorithm: the ``ops.algorithm`` arguments the caller set (OpenSees cannot be
             asked), restored after a recovered step.
+        abandon: called every ``check_every`` steps with the ``[check_every, n_out]`` rows
+            read since its last call; True stops the analysis with :class:`Abandoned`
+            (for a caller that will not use the rest, e.g. a model that has left the range
+            it is trusted in).
+        check_every: steps between calls of ``abandon``.
 
     Returns:
         ``[n_steps + 1, n_out]``: row 0 is ``read()`` before the first step, row ``k``
@@ -76,6 +95,7 @@ def integrate(
     Raises:
         AnalysisFailed: a step that nothing on the ladder could complete, with the time at
             its start and what was tried.
+        Abandoned: ``abandon`` returned True.
     """
     algorithm = tuple(algorithm)
     first = np.asarray(read(), dtype=np.float64)
@@ -85,6 +105,9 @@ def integrate(
         if ops.analyze(1, dt) != 0:
             _recover(ops, dt, algorithm)
         out[k] = read()
+        if abandon is not None and k % check_every == 0:
+            if abandon(out[k - check_every + 1 : k + 1]):
+                raise Abandoned(k * dt)
     return out
 
 
