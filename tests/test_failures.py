@@ -82,3 +82,34 @@ def test_a_plugin_returning_a_wrong_shape_is_named(toy_registry, tmp_path):
         r"\(5, 60, 2\)",
     ):
         cp.generate_dataset(config, tmp_path / "d.h5", progress=False)
+
+
+def test_a_split_whose_records_all_failed_is_refused_with_the_cause():
+    data = cp.Dataset(
+        ag=np.zeros((5, 10)),
+        u=np.zeros((5, 10, 1)),
+        z={},
+        extras={},
+        dt=0.01,
+        output_names=("x",),
+        sizes={"train": 3, "val": 1, "test": 1},
+        failures={1: "worker died", 3: "worker died"},
+    )
+    assert data.rows("train").tolist() == [0, 2]
+    assert data.rows("test").tolist() == [4]
+    with pytest.raises(
+        cp.DatasetError, match=r"every one of the 1 records of the val split.*record 3: worker"
+    ):
+        data.rows("val")
+
+
+def test_training_without_validation_records_is_refused(toy_registry):
+    model = cp.compose(
+        structure="toy-structure", preprocessor="toy-linear", operator="toy-operator"
+    )
+    motions = cp.create("ground_motion", "toy-source", n_steps=20).sample(
+        4, np.random.default_rng(0)
+    )
+    u = model.structure.simulate(motions).displacement
+    with pytest.raises(cp.InputError, match="validation u holds no records"):
+        model.fit(motions, u, (motions[:0], u[:0]), epochs=1, progress=None)

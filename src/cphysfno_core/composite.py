@@ -296,6 +296,8 @@ class CompositeModel:
                 f"{what} has {u.shape[2]} outputs but structure '{self.structure.name}' has "
                 f"{self.structure.n_outputs}"
             )
+        if u.shape[0] == 0:
+            raise InputError(f"{what} holds no records")
         if not np.isfinite(u).all():
             raise InputError(f"{what} holds NaN or Inf")
         return u

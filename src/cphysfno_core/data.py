@@ -53,12 +53,21 @@ class Dataset:
 
     def rows(self, split: str) -> np.ndarray:
         """The record indices of ``split`` (``train``, ``val`` or ``test``), failed records
-        left out."""
+        left out; DatasetError if every record of the split failed."""
         if split not in SPLITS:
             raise DatasetError(f"unknown split '{split}': use one of {', '.join(SPLITS)}")
         start = sum(self.sizes[s] for s in SPLITS[: SPLITS.index(split)])
         rows = np.arange(start, start + self.sizes[split])
-        return rows[~np.isin(rows, list(self.failures))]
+        failed = np.isin(rows, list(self.failures))
+        if failed.all() and rows.size:
+            first = int(rows[0])
+            raise DatasetError(
+                f"every one of the {rows.size} records of the {split} split failed in "
+                f"simulation (record {first}: {self.failures[first]}); {len(self.failures)} of "
+                f"{self.u.shape[0]} records failed in all: fix the cause and generate the "
+                "dataset again"
+            )
+        return rows[~failed]
 
     def motions(self, split: str) -> GroundMotions:
         return GroundMotions(self.ag[self.rows(split)], self.dt)
