@@ -75,6 +75,35 @@ def test_coverage_standard_error_is_over_records_by_hand():
     np.testing.assert_allclose(
         metrics.coverage_standard_error(lower, upper, truth), [0.5 / np.sqrt(3.0)]
     )
+    # calibrated on 6 other records: 0.5 * sqrt(1/3 + 1/6)
+    np.testing.assert_allclose(
+        metrics.coverage_standard_error(lower, upper, truth, calibration_records=6),
+        [0.5 * np.sqrt(0.5)],
+    )
+    with pytest.raises(cp.InputError, match="calibration_records must be positive"):
+        metrics.coverage_standard_error(lower, upper, truth, calibration_records=0)
+
+
+def test_the_calibrated_standard_error_matches_resampled_split_conformal():
+    rng = np.random.default_rng(0)
+    n_records, n_steps = 300, 200
+    # record-to-record spread of the error size, as a trained operator has
+    scale = np.exp(0.4 * rng.standard_normal((n_records, 1, 1)))
+    errors = scale * rng.standard_normal((n_records, n_steps, 1))
+    level, n_cal = 0.68, 100
+    misses, predicted = [], []
+    for _ in range(400):
+        order = rng.permutation(n_records)
+        calibration, test = errors[order[:n_cal]], errors[order[n_cal:]]
+        scores = np.sort(np.abs(calibration).ravel())
+        q = scores[int(np.ceil((scores.size + 1) * level)) - 1]
+        lower, upper = np.full_like(test, -q), np.full_like(test, q)
+        misses.append(metrics.interval_coverage(lower, upper, test)[0] - level)
+        predicted.append(
+            metrics.coverage_standard_error(lower, upper, test, calibration_records=n_cal)[0]
+        )
+    assert abs(np.mean(misses)) < 0.005
+    assert np.std(misses) == pytest.approx(np.mean(predicted), rel=0.15)
 
 
 def test_a_refiners_default_interval_is_the_gaussian_quantile_band():

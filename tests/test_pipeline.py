@@ -68,7 +68,10 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
     refined = document["models"]["refined-c-phystoy-operator-toy-linear"]
     assert len(refined["coverage_68"]) == len(refined["coverage_90"]) == 2
     assert all(a <= b for a, b in zip(refined["coverage_68"], refined["coverage_90"], strict=True))
+    assert all(0.0 < se < 0.5 for se in refined["coverage_68_se"] + refined["coverage_90_se"])
     report = (out / "report.md").read_text()
+    largest = 100 * max(refined["coverage_68_se"])
+    assert f"its standard error is at most {largest:.1f} points at 68 %" in report
     assert "| physics-toy-linear |" in report
     for figure in (
         "trajectories",

@@ -7,7 +7,7 @@ config's operator, training and formulation, changed by the row's ``operator``,
 ``[[refiner]]`` (fitted on the split its ``calibration_split`` names) and scored on the test
 split: relative L2 and RMSE per output of the operator and of each refined mean, and the
 test coverage of each refiner's 68 % and 90 % intervals with its standard error over the
-test records. Each ``[[ensemble]]`` (a ``name`` and the names of trained ``rows``) is
+test records and the records it was calibrated on. Each ``[[ensemble]]`` (a ``name`` and the names of trained ``rows``) is
 scored by relative L2 and RMSE on the mean of its rows' operator outputs. Trained models
 are saved under ``--out`` and the row in training is checkpointed after every epoch, so a
 run that was stopped continues where it stopped; the JSON is rewritten after every row.
@@ -87,7 +87,7 @@ def refined_scores(
         percent = round(100 * level)
         row[f"coverage_{percent}"] = metrics.interval_coverage(lower, upper, truth).tolist()
         row[f"coverage_{percent}_se"] = metrics.coverage_standard_error(
-            lower, upper, truth
+            lower, upper, truth, calibration_records=len(u)
         ).tolist()
     row["calibration_split"] = refined.refiner.calibration_split
     return row

@@ -56,16 +56,33 @@ def interval_coverage(lower: np.ndarray, upper: np.ndarray, truth: np.ndarray) -
     return np.mean(_inside(lower, upper, truth), axis=(0, 1))
 
 
-def coverage_standard_error(lower: np.ndarray, upper: np.ndarray, truth: np.ndarray) -> np.ndarray:
+def coverage_standard_error(
+    lower: np.ndarray,
+    upper: np.ndarray,
+    truth: np.ndarray,
+    calibration_records: int | None = None,
+) -> np.ndarray:
     """``[dof]`` standard error of :func:`interval_coverage` over the records drawn.
 
-    The points of one record are not independent, the records are: this is the standard
-    deviation over records of each record's own coverage, over the square root of the
-    number of records (how far the measured coverage may sit from its expectation by the
-    draw of the records alone).
+    The points of one record are not independent, the records are: with
+    ``calibration_records`` None this is the standard deviation ``s`` over records of each
+    record's own coverage, over the square root of the ``n`` records (how far the measured
+    coverage may sit from its expectation by the draw of these records alone).
+
+    Intervals whose width is a quantile of the errors on ``calibration_records`` other
+    records (split-conformal, or any refiner calibrated on a held-out split) also move
+    with the draw of those: the calibrated quantile misses the true one by as much as a
+    coverage measured on them would, so the standard error becomes
+    ``s * sqrt(1 / n + 1 / calibration_records)``.
     """
     per_record = np.mean(_inside(lower, upper, truth), axis=1)
-    return per_record.std(axis=0, ddof=1) / np.sqrt(per_record.shape[0])
+    spread = per_record.std(axis=0, ddof=1)
+    inverse_records = 1.0 / per_record.shape[0]
+    if calibration_records is not None:
+        if calibration_records < 1:
+            raise InputError(f"calibration_records must be positive, got {calibration_records}")
+        inverse_records += 1.0 / calibration_records
+    return spread * np.sqrt(inverse_records)
 
 
 def _inside(lower: np.ndarray, upper: np.ndarray, truth: np.ndarray) -> np.ndarray:

@@ -156,13 +156,18 @@ def _metric_row(prediction: np.ndarray, truth: np.ndarray) -> dict:
     }
 
 
-def _coverage(model: CompositeModel, stages: Any, truth: np.ndarray) -> dict[str, list[float]]:
-    """Test coverage per DOF of the refiner's intervals at each nominal level."""
+def _coverage(
+    model: CompositeModel, stages: Any, truth: np.ndarray, calibration_records: int
+) -> dict[str, list[float]]:
+    """Test coverage per DOF of the refiner's intervals at each nominal level, with its
+    standard error from the draw of the test and the ``calibration_records`` records."""
     found = {}
     for level in COVERAGE_LEVELS:
         lower, upper = model.refiner.interval(stages.z, stages.operator_output, level)
-        found[f"coverage_{round(100 * level)}"] = metrics.interval_coverage(
-            lower, upper, truth
+        key = f"coverage_{round(100 * level)}"
+        found[key] = metrics.interval_coverage(lower, upper, truth).tolist()
+        found[f"{key}_se"] = metrics.coverage_standard_error(
+            lower, upper, truth, calibration_records
         ).tolist()
     return found
 
@@ -172,12 +177,18 @@ def evaluate(
 ) -> Evaluation:
     """Stage 3: predict the test split with every trained model; write ``metrics.json``.
 
-    Refined models also report the test coverage of their 68 % and 90 % intervals.
+    Refined models also report the test coverage of their 68 % and 90 % intervals and its
+    standard error (:func:`~cphysfno_core.metrics.coverage_standard_error` over the test
+    records and the records the refiner was calibrated on).
     """
     out = Path(out)
     data = load_dataset(dataset or out / DATASET)
     _set_threads(config)
     test_gm, test_u = data.motions("test"), data.targets("test")
+    calibration_records = {
+        "validation": len(data.rows("val")),
+        "training": len(data.rows("train")[slice(config.training.train_records)]),
+    }
     results: dict[str, dict[str, Any]] = {}
     predictions: dict[str, Any] = {}
     for pp in config.preprocessor:
@@ -193,16 +204,14 @@ def evaluate(
         predictions[label] = stages
         results[label] = _metric_row(stages.mean, test_u)
         if model.refiner is not None:
-            results[label].update(_coverage(model, stages, test_u))
+            calibrated_on = calibration_records[model.refiner.calibration_split]
+            results[label].update(_coverage(model, stages, test_u, calibrated_on))
         results[label]["best_epoch"] = model.history_.best_epoch
         results[label]["train_seconds"] = model.history_.seconds
     document = {
         "models": results,
         "output_names": list(data.output_names),
-        "sizes": {
-            **data.sizes,
-            "train": len(data.rows("train")[slice(config.training.train_records)]),
-        },
+        "sizes": {**data.sizes, "train": calibration_records["training"]},
         "epochs": config.training.epochs,
     }
     (out / "metrics.json").write_text(json.dumps(document, indent=2))

@@ -82,3 +82,13 @@ def test_pinning_the_rightmost_bay_lengthens_the_first_period_by_about_0_15_s():
 def test_periods_refuses_more_modes_than_floors():
     with pytest.raises(ConfigError, match="from 1 to 9"):
         Sac9Frame().periods(10)
+
+
+def test_the_eigen_solve_prints_nothing(capsys):
+    ops = import_opensees()
+    build_frame(ops, FrameConfig(model="hinges"))
+    try:
+        assert eigenvalues(ops, 3).shape == (3,)
+    finally:
+        ops.wipe()
+    assert "VERY SLOW" not in capsys.readouterr().err
