@@ -7,10 +7,11 @@ config's operator, training and formulation, changed by the row's ``operator``,
 ``[[refiner]]`` (fitted on the split its ``calibration_split`` names) and scored on the test
 split: relative L2 and RMSE per output of the operator and of each refined mean, and the
 test coverage of each refiner's 68 % and 90 % intervals with its standard error over the
-test records and the records it was calibrated on. Each ``[[ensemble]]`` (a ``name`` and the names of trained ``rows``) is
-scored by relative L2 and RMSE on the mean of its rows' operator outputs. Trained models
-are saved under ``--out`` and the row in training is checkpointed after every epoch, so a
-run that was stopped continues where it stopped; the JSON is rewritten after every row.
+test records and the records it was calibrated on. Each ``[[ensemble]]`` (a ``name`` and
+the names of trained ``rows``) is scored by relative L2 and RMSE on the mean of its rows'
+operator outputs. Trained models are saved under ``--out`` and the row in training is
+checkpointed after every epoch, so a run that was stopped continues where it stopped; the
+JSON is rewritten after every row.
 
     python examples/ablation/run_ablation.py examples/ablation/bouc-wen-ablation.toml \\
         --dataset runs/example1-study-cpu/dataset.h5 --out runs/example1-ablation \\
