@@ -131,3 +131,13 @@ def test_the_cpu_configs_of_examples_2_and_3_are_the_full_ones_cut_down():
             assert reduced["ground_motion"].pop("copies") == copies
             paper["ground_motion"].pop("copies")
         assert reduced == paper
+
+
+def test_the_residual_frame_config_reuses_the_cpu_frame_data():
+    from cphysfno_core.data import dataset_hash
+
+    cpu = cp.load_config(EXAMPLES / "sac9-frame-cpu.toml")
+    residual = cp.load_config(EXAMPLES / "sac9-frame-cpu-residual.toml")
+    assert dataset_hash(residual) == dataset_hash(cpu)
+    assert residual.formulation.residual and residual.formulation.ground_motion_input
+    assert residual.operator == cpu.operator
