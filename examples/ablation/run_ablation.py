@@ -41,15 +41,13 @@ from cphysfno_core import (
     metrics,
 )
 from cphysfno_core.composite import Prediction
+from cphysfno_core.pipeline import interval_coverage_scores
 
 TRAINING_FIELDS = ("epochs", "learning_rate", "decay_step", "decay_factor", "seed")
 """Training settings recorded with each row."""
 
 TARGET = 0.25
 """Test relative L2 every output of a row should reach."""
-
-LEVELS = (0.68, 0.90)
-"""Nominal levels of the intervals whose test coverage is reported."""
 
 
 def slug(name: str) -> str:
@@ -83,13 +81,9 @@ def refined_scores(
     refined = model.refine(instance, motions, u, z=z)
     mean, _ = refined.refiner.predict(test.z, test.operator_output)
     row = scores(mean, truth)
-    for level in LEVELS:
-        lower, upper = refined.refiner.interval(test.z, test.operator_output, level)
-        percent = round(100 * level)
-        row[f"coverage_{percent}"] = metrics.interval_coverage(lower, upper, truth).tolist()
-        row[f"coverage_{percent}_se"] = metrics.coverage_standard_error(
-            lower, upper, truth, calibration_records=len(u)
-        ).tolist()
+    row.update(
+        interval_coverage_scores(refined.refiner, test.z, test.operator_output, truth, len(u))
+    )
     row["calibration_split"] = refined.refiner.calibration_split
     return row
 

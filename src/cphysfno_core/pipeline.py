@@ -22,6 +22,7 @@ from .config import ExperimentConfig
 from .data import Dataset, load_dataset
 from .errors import DatasetError
 from .generation import generate_dataset
+from .interfaces import Refiner
 from .registry import get_registry
 
 DATASET = "dataset.h5"
@@ -156,14 +157,20 @@ def _metric_row(prediction: np.ndarray, truth: np.ndarray) -> dict:
     }
 
 
-def _coverage(
-    model: CompositeModel, stages: Any, truth: np.ndarray, calibration_records: int
+def interval_coverage_scores(
+    refiner: Refiner,
+    z: np.ndarray | None,
+    operator_output: np.ndarray,
+    truth: np.ndarray,
+    calibration_records: int,
 ) -> dict[str, list[float]]:
-    """Test coverage per DOF of the refiner's intervals at each nominal level, with its
-    standard error from the draw of the test and the ``calibration_records`` records."""
+    """Coverage per DOF of a fitted refiner's intervals at each of :data:`COVERAGE_LEVELS`
+    (``coverage_68``, ``coverage_90``) and its standard error from the draw of the
+    ``[n, T, dof]`` records scored and of the ``calibration_records`` the refiner was fitted
+    on (``coverage_68_se``, ``coverage_90_se``)."""
     found = {}
     for level in COVERAGE_LEVELS:
-        lower, upper = model.refiner.interval(stages.z, stages.operator_output, level)
+        lower, upper = refiner.interval(z, operator_output, level)
         key = f"coverage_{round(100 * level)}"
         found[key] = metrics.interval_coverage(lower, upper, truth).tolist()
         found[f"{key}_se"] = metrics.coverage_standard_error(
@@ -205,7 +212,11 @@ def evaluate(
         results[label] = _metric_row(stages.mean, test_u)
         if model.refiner is not None:
             calibrated_on = calibration_records[model.refiner.calibration_split]
-            results[label].update(_coverage(model, stages, test_u, calibrated_on))
+            results[label].update(
+                interval_coverage_scores(
+                    model.refiner, stages.z, stages.operator_output, test_u, calibrated_on
+                )
+            )
         results[label]["best_epoch"] = model.history_.best_epoch
         results[label]["train_seconds"] = model.history_.seconds
     document = {
