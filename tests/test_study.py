@@ -2,6 +2,7 @@
 resumed without retraining, and refused with a clear message when ill-posed."""
 
 import json
+import shutil
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ import cphysfno_core as cp
 from cphysfno_core import pipeline, study
 from cphysfno_core.cli import main
 from cphysfno_core.registry import set_registry
+from cphysfno_core.study_report import write_study_report
 
 BASE = {
     "structure": {"name": "toy-structure", "cubic": 40.0},
@@ -108,6 +110,32 @@ def test_a_finished_study_resumes_without_training_and_reruns_only_what_is_missi
     assert trained == [out / "runs/width/4/seed-1"]
 
 
+def test_a_study_in_progress_is_summarised_from_its_finished_runs(finished, tmp_path):
+    out, summary = finished
+    partial = tmp_path / "partial"
+    shutil.copytree(out, partial)
+    (partial / "runs/table/seed-1/metrics.json").unlink()
+    for seed in (0, 1):
+        (partial / f"runs/width/2/seed-{seed}/metrics.json").unlink()
+    config = _config()
+    label = "c-phystoy-operator-toy-linear"
+    now = study.summarise_finished(config, partial)
+    assert now["seeds"] == [0]
+    assert now["models"][label]["rel_l2"]["std"] == [0.0, 0.0]
+    seed_0 = json.loads((out / "runs/table/seed-0/metrics.json").read_text())
+    assert now["models"][label]["rel_l2"]["mean"] == seed_0["models"][label]["rel_l2"]
+    assert now["sweeps"]["width"]["values"] == [4]
+    assert now["sweeps"]["size"] == summary["sweeps"]["size"]
+    report = write_study_report(config, now, partial).read_text()
+    assert "in progress: 1 of the config's 2 seeds have finished" in report
+    for seed in (0, 1):
+        (partial / f"runs/width/4/seed-{seed}/metrics.json").unlink()
+    assert "width" not in study.summarise_finished(config, partial)["sweeps"]
+    (partial / "runs/table/seed-0/metrics.json").unlink()
+    with pytest.raises(cp.ConfigError, match="no table run of the study in .* has finished"):
+        study.summarise_finished(config, partial)
+
+
 def test_the_cli_writes_the_report_with_sweep_figures(toy_registry, tmp_path, capsys):
     path = tmp_path / "study.toml"
     path.write_text(TOML)
@@ -118,6 +146,42 @@ def test_the_cli_writes_the_report_with_sweep_figures(toy_registry, tmp_path, ca
     assert " ± " in report and "figures/sweep-size.png" in report
     assert (tmp_path / "out/figures/sweep-size.png").stat().st_size > 10_000
     assert (tmp_path / "out/runs/table/seed-3/report.md").exists()
+    (tmp_path / "out/runs/table/seed-4/metrics.json").unlink()
+    (tmp_path / "out/study.md").unlink()
+    command = ["study", str(path), "--out", str(tmp_path / "out"), "--summary-only"]
+    assert main(command) == 0
+    assert "mean of 1 seed" in capsys.readouterr().out
+    assert json.loads((tmp_path / "out/study.json").read_text())["seeds"] == [3]
+    assert "in progress" in (tmp_path / "out/study.md").read_text()
+    assert not (tmp_path / "out/runs/table/seed-4/metrics.json").exists()
+
+
+def test_sweep_values_that_train_like_the_table_reuse_its_models(
+    toy_registry, tmp_path, monkeypatch
+):
+    fits = []
+    original = cp.CompositeModel.fit
+    monkeypatch.setattr(
+        cp.CompositeModel,
+        "fit",
+        lambda self, *a, **kw: fits.append(self.label) or original(self, *a, **kw),
+    )
+    config = _config(study={**BASE["study"], "seeds": [0]})
+    planned = {(r.group, r.value): r.shares for r in study.plan(config, tmp_path)}
+    table = tmp_path / "runs/table/seed-0"
+    assert planned == {
+        ("table", None): None,
+        ("size", 4): None,
+        ("size", 10): table,  # train_records = n_train: the table's training split
+        ("width", 2): None,
+        ("width", 4): table,
+    }
+    study.run_study(config, tmp_path)
+    assert len(fits) == 6  # baseline and C-Phys model for the table, size 4 and width 2
+    shared = json.loads((tmp_path / "runs/size/10/seed-0/metrics.json").read_text())["models"]
+    own = json.loads((table / "metrics.json").read_text())["models"]
+    for label in ("toy-operator", "c-phystoy-operator-toy-linear"):
+        assert shared[label]["rel_l2"] == own[label]["rel_l2"]
 
 
 @pytest.mark.parametrize(

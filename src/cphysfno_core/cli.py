@@ -84,15 +84,20 @@ def _stage(args: argparse.Namespace) -> int:
 
 
 def _study(args: argparse.Namespace) -> int:
-    from .study import run_study
+    from .study import SUMMARY, run_study, summarise_finished
     from .study_report import write_study_report
 
     config = load_config(args.config)
     out = Path(args.out)
     started = time.perf_counter()
-    summary = run_study(config, out)
+    if args.summary_only:
+        summary = summarise_finished(config, out)
+        (out / SUMMARY).write_text(json.dumps(summary, indent=2))
+    else:
+        summary = run_study(config, out)
     report = write_study_report(config, summary, out)
-    _print_means(summary, f"{len(summary['seeds'])} seeds")
+    seeds = len(summary["seeds"])
+    _print_means(summary, f"{seeds} seed" + ("s" if seeds != 1 else ""))
     print(f"\nsummary: {out / 'study.json'}\nreport:  {report}")
     print(f"done in {time.perf_counter() - started:.1f} s", file=sys.stderr)
     return 0
@@ -152,6 +157,12 @@ def build_parser() -> argparse.ArgumentParser:
     study = commands.add_parser("study", help=text, description=text)
     study.add_argument("config", help="experiment TOML file with a [study] section")
     study.add_argument("--out", required=True, help="output folder")
+    study.add_argument(
+        "--summary-only",
+        action="store_true",
+        help="summarise the runs finished so far (of a study still running or stopped) "
+        "without generating or training",
+    )
     study.set_defaults(func=_study)
     text = "summarise finished run folders (e.g. one per seed) as study.json does"
     summary = commands.add_parser("summarise", help=text, description=text)

@@ -9,13 +9,16 @@ run into its own folder::
     DIR/study.json                       mean and std over seeds (see :func:`summarise`)
 
 A run whose ``metrics.json`` exists is done; an interrupted run continues from its
-checkpoints, so the same command resumes a study where it stopped.
+checkpoints, so the same command resumes a study where it stopped. A sweep value that
+leaves the models as the table trains them (the table's own width, all training records)
+is not trained again: its run copies the table run's models of the same seed.
 """
 
 from __future__ import annotations
 
 import json
 import platform
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -34,13 +37,15 @@ SUMMARY = "study.json"
 
 @dataclass(frozen=True)
 class Run:
-    """One training run of a study: its configuration and folder."""
+    """One training run of a study: its configuration and folder, and the table run whose
+    models it shares when they would train identically (``None``: it trains its own)."""
 
     group: str
     value: Any
     seed: int
     config: ExperimentConfig
     folder: Path
+    shares: Path | None = None
 
 
 def _set_field(document: dict[str, Any], path: str, value: Any) -> None:
@@ -52,6 +57,24 @@ def _set_field(document: dict[str, Any], path: str, value: Any) -> None:
         raise ConfigError(f"study sweep field '{path}': the config has no [{section}] section")
     for table in tables:
         table[field] = value
+
+
+def _trains_alike(run: ExperimentConfig, table: ExperimentConfig) -> bool:
+    """Whether every model ``run`` trains is trained by ``table`` with the same settings
+    (a model's training depends on its operator, training settings, formulation and
+    preprocessor only; ``train_records`` unset means the whole training split)."""
+
+    def training(config: ExperimentConfig):
+        records = config.training.train_records or config.data.n_train
+        return config.training.model_copy(update={"train_records": records})
+
+    return (
+        run.operator == table.operator
+        and training(run) == training(table)
+        and run.formulation == table.formulation
+        and run.output.baseline <= table.output.baseline
+        and all(p in table.preprocessor for p in run.preprocessor)
+    )
 
 
 def plan(config: ExperimentConfig, out: Path) -> list[Run]:
@@ -67,12 +90,14 @@ def plan(config: ExperimentConfig, out: Path) -> list[Run]:
     runs = []
     base = config.to_dict()
     base.pop("study")
+    tables = {}
     for seed in study.seeds:
         document = json.loads(json.dumps(base))
         document["training"]["seed"] = seed
-        runs.append(
-            Run(TABLE, None, seed, parse_config(document), out / RUNS / TABLE / f"seed-{seed}")
+        tables[seed] = Run(
+            TABLE, None, seed, parse_config(document), out / RUNS / TABLE / f"seed-{seed}"
         )
+    runs.extend(tables.values())
     chosen = study.sweep_preprocessors
     swept = [p for p in base["preprocessor"] if chosen is None or p["name"] in chosen]
     for name, sweep in study.sweeps.items():
@@ -94,7 +119,9 @@ def plan(config: ExperimentConfig, out: Path) -> list[Run]:
                 except ConfigError as error:
                     raise ConfigError(f"study sweep '{name}' = {value!r}: {error}") from None
                 folder = out / RUNS / name / str(value) / f"seed-{seed}"
-                runs.append(Run(name, value, seed, run_config, folder))
+                table = tables[seed]
+                shares = table.folder if _trains_alike(run_config, table.config) else None
+                runs.append(Run(name, value, seed, run_config, folder, shares))
     return runs
 
 
@@ -115,6 +142,8 @@ def run_study(config: ExperimentConfig, out: str | Path) -> dict[str, Any]:
         value = "" if run.value is None else f" = {run.value}"
         pipeline.say(f"study run {number}/{len(runs)}: {run.group}{value}, seed {run.seed}")
         run.folder.mkdir(parents=True, exist_ok=True)
+        if run.shares is not None:
+            _copy_models(run)
         pipeline.train(run.config, run.folder, resume=True, dataset=dataset)
         evaluation = pipeline.evaluate(run.config, run.folder, dataset=dataset)
         if run.group == TABLE and run.seed == config.study.seeds[0]:
@@ -124,6 +153,18 @@ def run_study(config: ExperimentConfig, out: str | Path) -> dict[str, Any]:
     summary = summarise(config, runs)
     (out / SUMMARY).write_text(json.dumps(summary, indent=2))
     return summary
+
+
+def _copy_models(run: Run) -> None:
+    """Copy into ``run.folder`` the models its table run has finished training; any it
+    has not, ``run`` trains itself."""
+    models = run.shares / pipeline.MODELS
+    for label in pipeline.model_labels(run.config):
+        source, target = models / label, run.folder / pipeline.MODELS / label
+        finished = (source / "model.json").exists()
+        if finished and not (models / f"{label}.checkpoint.pt").exists() and not target.exists():
+            pipeline.say(f"{label}: the same training as {run.shares.name} of the table, copied")
+            shutil.copytree(source, target)
 
 
 def device() -> str:
@@ -199,25 +240,49 @@ def summarise_runs(folders: list[Path]) -> dict[str, Any]:
 def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
     """The study's results from the runs' ``metrics.json`` files.
 
+    Args:
+        runs: finished runs (every one with ``metrics.json``), at least one of the table.
+
     Returns:
         ``models``: label -> ``{"rel_l2": {"mean", "std"}, "rmse": {...}}`` per DOF over the
         table's seeds (standard deviation with ``ddof = 0``), plus ``coverage_68`` and
         ``coverage_90`` likewise for refined models; ``sweeps``: name -> field, values and
-        label -> value -> per-seed ``rel_l2`` per DOF; and the seeds, epochs, split sizes,
-        output names and device.
+        label -> value -> per-seed ``rel_l2`` per DOF (values with a finished run only);
+        and the table runs' seeds, epochs, split sizes, output names and device.
     """
     documents = {run.folder: json.loads((run.folder / "metrics.json").read_text()) for run in runs}
-    table = [documents[run.folder] for run in runs if run.group == TABLE]
+    table = [run for run in runs if run.group == TABLE]
     sweeps: dict[str, Any] = {}
     for name, sweep in config.study.sweeps.items():
+        done = [r for r in runs if r.group == name]
+        if not done:
+            continue
         by_label: dict[str, dict[str, list]] = {}
-        for run in (r for r in runs if r.group == name):
+        for run in done:
             for label, row in documents[run.folder]["models"].items():
                 by_label.setdefault(label, {}).setdefault(str(run.value), []).append(row["rel_l2"])
         sweeps[name] = {
             "field": sweep.field,
             "label": sweep.label or sweep.field,
-            "values": sweep.values,
+            "values": [v for v in sweep.values if any(r.value == v for r in done)],
             "rel_l2": by_label,
         }
-    return _summary(table, list(config.study.seeds), config.training.epochs, sweeps)
+    return _summary(
+        [documents[run.folder] for run in table],
+        [run.seed for run in table],
+        config.training.epochs,
+        sweeps,
+    )
+
+
+def summarise_finished(config: ExperimentConfig, out: str | Path) -> dict[str, Any]:
+    """The summary of the runs of a study in ``out`` finished so far (a study still running,
+    or stopped); writes nothing.
+
+    Raises:
+        ConfigError: no table run has finished yet.
+    """
+    runs = [run for run in plan(config, Path(out)) if (run.folder / "metrics.json").exists()]
+    if not any(run.group == TABLE for run in runs):
+        raise ConfigError(f"no table run of the study in {out} has finished yet")
+    return summarise(config, runs)

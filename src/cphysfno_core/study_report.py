@@ -68,6 +68,12 @@ def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: s
         f"trained on {summary['device']}",
         "- cells: mean ± standard deviation over seeds; `physics-*` rows are z alone",
     ]
+    planned = config.study.seeds if config.study else summary["seeds"]
+    if len(summary["seeds"]) < len(planned):
+        lines.append(
+            f"- in progress: {len(summary['seeds'])} of the config's {len(planned)} seeds "
+            "have finished; sweeps show the runs finished so far"
+        )
     if paper:
         lines.append(f"- in parentheses: the paper's {paper.caption}")
     lines += ["", "## Relative L2 error (test split)", "", *_table(summary, "rel_l2", 4, paper)]
