@@ -1,3 +1,4 @@
+import os
 import sys
 from pathlib import Path
 
@@ -18,3 +19,12 @@ def toy_registry():
     set_registry(registry)
     yield registry
     set_registry(None)
+
+
+@pytest.fixture
+def toys_in_workers(toy_registry, monkeypatch):
+    """Worker processes load the toy components instead of the installed plugins."""
+    monkeypatch.setenv("CPHYSFNO_DISABLE_PLUGIN_AUTOLOAD", "1")
+    monkeypatch.setenv("CPHYSFNO_PLUGINS", "toy_components")
+    here = str(Path(__file__).parent)
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))

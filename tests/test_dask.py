@@ -2,7 +2,6 @@
 when a worker dies mid-run."""
 
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,15 +15,6 @@ CONFIG = {
     "operator": {"name": "toy-operator"},
     "data": {"n_train": 10, "n_val": 4, "n_test": 6, "chunk_size": 4},
 }
-
-
-@pytest.fixture
-def toys_in_workers(toy_registry, monkeypatch):
-    """Worker processes load the toy components instead of the installed plugins."""
-    monkeypatch.setenv("CPHYSFNO_DISABLE_PLUGIN_AUTOLOAD", "1")
-    monkeypatch.setenv("CPHYSFNO_PLUGINS", "toy_components")
-    here = str(Path(__file__).parent)
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))
 
 
 def _config(structure=None, **data):

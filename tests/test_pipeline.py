@@ -1,5 +1,4 @@
 import json
-import os
 from pathlib import Path
 
 import numpy as np
@@ -180,11 +179,7 @@ def test_a_dataset_of_another_config_is_not_overwritten(toy_registry, tmp_path):
         cp.generate_dataset(other, path, progress=False)
 
 
-def test_process_executor_gives_the_same_records(toy_registry, tmp_path, monkeypatch):
-    monkeypatch.setenv("CPHYSFNO_DISABLE_PLUGIN_AUTOLOAD", "1")
-    monkeypatch.setenv("CPHYSFNO_PLUGINS", "toy_components")
-    here = str(Path(__file__).parent)
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))
+def test_process_executor_gives_the_same_records(toys_in_workers, tmp_path):
     serial = cp.load_config(_config(tmp_path, "serial"))
     processes = cp.load_config(_config(tmp_path, "processes"))
     cp.generate_dataset(serial, tmp_path / "a.h5", progress=False)

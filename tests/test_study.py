@@ -136,6 +136,38 @@ def test_a_study_in_progress_is_summarised_from_its_finished_runs(finished, tmp_
         study.summarise_finished(config, partial)
 
 
+def test_runs_in_parallel_processes_give_the_serial_study(
+    finished, toys_in_workers, tmp_path, capsys
+):
+    out, summary = finished
+    with pytest.raises(cp.ConfigError, match="jobs = 0: at least one run"):
+        study.run_study(_config(), tmp_path, jobs=0)
+    parallel = tmp_path / "parallel"
+    parallel.mkdir()
+    shutil.copy(out / "dataset.h5", parallel / "dataset.h5")
+    result = study.run_study(_config(), parallel, jobs=2)
+    for label, row in summary["models"].items():
+        for metric in ("rel_l2", "rmse"):
+            np.testing.assert_allclose(
+                result["models"][label][metric]["mean"], row[metric]["mean"], rtol=1e-5
+            )
+    for name, sweep in summary["sweeps"].items():
+        for label, per_value in sweep["rel_l2"].items():
+            for value, seeds in per_value.items():
+                np.testing.assert_allclose(
+                    result["sweeps"][name]["rel_l2"][label][value], seeds, rtol=1e-5
+                )
+    printed = capsys.readouterr().err
+    assert "10 of 10 study runs to train, 2 at a time" in printed
+    assert printed.count("finished in") == 10 and "epoch" not in printed
+    assert "training toy-operator" in (parallel / "runs/size/4/seed-1/study.log").read_text()
+    assert (
+        "the same training as seed-1 of the table, copied"
+        in (parallel / "runs/width/4/seed-1/study.log").read_text()
+    )
+    assert (parallel / "runs/table/seed-0/report.md").exists()
+
+
 def test_the_cli_writes_the_report_with_sweep_figures(toy_registry, tmp_path, capsys):
     path = tmp_path / "study.toml"
     path.write_text(TOML)
@@ -154,6 +186,8 @@ def test_the_cli_writes_the_report_with_sweep_figures(toy_registry, tmp_path, ca
     assert json.loads((tmp_path / "out/study.json").read_text())["seeds"] == [3]
     assert "in progress" in (tmp_path / "out/study.md").read_text()
     assert not (tmp_path / "out/runs/table/seed-4/metrics.json").exists()
+    assert main(["study", str(path), "--out", str(tmp_path / "out"), "--jobs", "0"]) == 2
+    assert "jobs = 0: at least one run must train at a time" in capsys.readouterr().err
 
 
 def test_sweep_values_that_train_like_the_table_reuse_its_models(

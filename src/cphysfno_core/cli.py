@@ -94,7 +94,7 @@ def _study(args: argparse.Namespace) -> int:
         summary = summarise_finished(config, out)
         (out / SUMMARY).write_text(json.dumps(summary, indent=2))
     else:
-        summary = run_study(config, out)
+        summary = run_study(config, out, jobs=args.jobs)
     report = write_study_report(config, summary, out)
     seeds = len(summary["seeds"])
     _print_means(summary, f"{seeds} seed" + ("s" if seeds != 1 else ""))
@@ -157,6 +157,12 @@ def build_parser() -> argparse.ArgumentParser:
     study = commands.add_parser("study", help=text, description=text)
     study.add_argument("config", help="experiment TOML file with a [study] section")
     study.add_argument("--out", required=True, help="output folder")
+    study.add_argument(
+        "--jobs",
+        type=int,
+        default=1,
+        help="runs trained at a time, each in its own process (default 1)",
+    )
     study.add_argument(
         "--summary-only",
         action="store_true",

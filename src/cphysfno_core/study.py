@@ -8,6 +8,9 @@ run into its own folder::
     DIR/runs/<sweep>/<value>/seed-<s>/   the baseline and the sweep's C-Phys variants
     DIR/study.json                       mean and std over seeds (see :func:`summarise`)
 
+``--jobs N`` trains N runs at a time in worker processes, each logging to its folder's
+``study.log``.
+
 A run whose ``metrics.json`` exists is done; an interrupted run continues from its
 checkpoints, so the same command resumes a study where it stopped. A sweep value that
 leaves the models as the table trains them (the table's own width, all training records)
@@ -16,9 +19,12 @@ is not trained again: its run copies the table run's models of the same seed.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import platform
 import shutil
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,12 +33,14 @@ import numpy as np
 import torch
 
 from . import pipeline
-from .config import ExperimentConfig, parse_config
+from .config import DataConfig, ExperimentConfig, parse_config
 from .errors import ConfigError
+from .executors import run_tasks
 
 RUNS = "runs"
 TABLE = "table"
 SUMMARY = "study.json"
+LOG = "study.log"
 
 
 @dataclass(frozen=True)
@@ -125,34 +133,100 @@ def plan(config: ExperimentConfig, out: Path) -> list[Run]:
     return runs
 
 
-def run_study(config: ExperimentConfig, out: str | Path) -> dict[str, Any]:
+def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[str, Any]:
     """Generate the dataset, run every run not yet done, write and return the summary.
 
     Every run shares ``out/dataset.h5`` (a sweep may not change the data).
+
+    Args:
+        jobs: runs trained at a time. With more than one, each run trains in a worker
+            process (on a GPU they share it) with ``cpu_count // jobs`` torch threads
+            unless ``training.threads`` says otherwise, and writes its progress to
+            ``<run folder>/study.log``; the table's runs finish before the sweeps' start.
     """
+    if jobs < 1:
+        raise ConfigError(f"jobs = {jobs}: at least one run must train at a time")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
     runs = plan(config, out)
     pipeline.generate(config, out)
     dataset = out / pipeline.DATASET
-    for number, run in enumerate(runs, start=1):
-        if (run.folder / "metrics.json").exists():
-            continue
-        value = "" if run.value is None else f" = {run.value}"
-        pipeline.say(f"study run {number}/{len(runs)}: {run.group}{value}, seed {run.seed}")
-        run.folder.mkdir(parents=True, exist_ok=True)
-        if run.shares is not None:
-            _copy_models(run)
-        pipeline.train(run.config, run.folder, resume=True, dataset=dataset)
-        evaluation = pipeline.evaluate(run.config, run.folder, dataset=dataset)
-        if run.group == TABLE and run.seed == config.study.seeds[0]:
-            from .report import write_report
+    report_run = runs[0].folder
+    todo = [(n, run) for n, run in enumerate(runs, start=1) if not _finished(run)]
+    if jobs == 1:
+        for number, run in todo:
+            pipeline.say(f"study run {number}/{len(runs)}: {_describe(run)}")
+            execute_run(run, dataset, report=run.folder == report_run)
+    else:
+        threads = max(1, (os.cpu_count() or 1) // jobs)
+        pipeline.say(
+            f"{len(todo)} of {len(runs)} study runs to train, {jobs} at a time with "
+            f"{threads} threads each; each writes its progress to <run folder>/{LOG}"
+        )
+        for phase in (TABLE, None):
+            batch = [(n, r) for n, r in todo if (r.group == TABLE) == (phase == TABLE)]
 
-            write_report(run.config, evaluation, run.folder)
+            def finished(key: int, seconds: float, batch=batch) -> None:
+                number, run = batch[key]
+                pipeline.say(
+                    f"study run {number}/{len(runs)} finished in {seconds:.0f} s: {_describe(run)}"
+                )
+
+            run_tasks(
+                _execute_logged,
+                range(len(batch)),
+                lambda key, batch=batch: (
+                    batch[key][1],
+                    dataset,
+                    batch[key][1].folder == report_run,
+                    threads,
+                ),
+                DataConfig(executor="processes", workers=jobs),
+                finished,
+            )
     summary = summarise(config, runs)
     (out / SUMMARY).write_text(json.dumps(summary, indent=2))
     return summary
+
+
+def _finished(run: Run) -> bool:
+    return (run.folder / "metrics.json").exists()
+
+
+def _describe(run: Run) -> str:
+    value = "" if run.value is None else f" = {run.value}"
+    return f"{run.group}{value}, seed {run.seed}"
+
+
+def execute_run(run: Run, dataset: Path, report: bool = False) -> None:
+    """Train (resuming) and evaluate one run in this process; with ``report``, also write
+    its ``report.md`` (the study's first table run)."""
+    run.folder.mkdir(parents=True, exist_ok=True)
+    if run.shares is not None:
+        _copy_models(run)
+    pipeline.train(run.config, run.folder, resume=True, dataset=dataset)
+    evaluation = pipeline.evaluate(run.config, run.folder, dataset=dataset)
+    if report:
+        from .report import write_report
+
+        write_report(run.config, evaluation, run.folder)
+
+
+def _execute_logged(run: Run, dataset: Path, report: bool, threads: int) -> float:
+    """:func:`execute_run` in a worker process, its progress appended to the run's log;
+    returns the seconds it took."""
+    started = time.perf_counter()
+    if run.config.training.threads is None:
+        torch.set_num_threads(threads)
+    run.folder.mkdir(parents=True, exist_ok=True)
+    with (
+        open(run.folder / LOG, "a") as log,
+        contextlib.redirect_stderr(log),
+        contextlib.redirect_stdout(log),
+    ):
+        execute_run(run, dataset, report)
+    return time.perf_counter() - started
 
 
 def _copy_models(run: Run) -> None:
@@ -282,7 +356,7 @@ def summarise_finished(config: ExperimentConfig, out: str | Path) -> dict[str, A
     Raises:
         ConfigError: no table run has finished yet.
     """
-    runs = [run for run in plan(config, Path(out)) if (run.folder / "metrics.json").exists()]
+    runs = [run for run in plan(config, Path(out)) if _finished(run)]
     if not any(run.group == TABLE for run in runs):
         raise ConfigError(f"no table run of the study in {out} has finished yet")
     return summarise(config, runs)
