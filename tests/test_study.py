@@ -158,7 +158,7 @@ def test_runs_in_parallel_processes_give_the_serial_study(
                     result["sweeps"][name]["rel_l2"][label][value], seeds, rtol=1e-5
                 )
     printed = capsys.readouterr().err
-    assert "10 of 10 study runs to train, 2 at a time" in printed
+    assert "10 of 10 study runs left, 2 at a time" in printed
     assert printed.count("finished in") == 10 and "epoch" not in printed
     assert "training toy-operator" in (parallel / "runs/size/4/seed-1/study.log").read_text()
     assert (

@@ -161,8 +161,9 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
     else:
         threads = max(1, (os.cpu_count() or 1) // jobs)
         pipeline.say(
-            f"{len(todo)} of {len(runs)} study runs to train, {jobs} at a time with "
-            f"{threads} threads each; each writes its progress to <run folder>/{LOG}"
+            f"{len(todo)} of {len(runs)} study runs left, {jobs} at a time with {threads} "
+            f"thread{'s' if threads > 1 else ''} each; each writes its progress to "
+            f"<run folder>/{LOG}"
         )
         for phase in (TABLE, None):
             batch = [(n, r) for n, r in todo if (r.group == TABLE) == (phase == TABLE)]
