@@ -70,6 +70,8 @@ def test_the_summary_is_the_mean_and_std_of_the_table_runs(finished):
     assert set(refined) == {"rel_l2", "rmse", "coverage_68", "coverage_90"}
     assert summary["seeds"] == [0, 1] and summary["epochs"] == 2
     assert summary["sizes"] == {"train": 10, "val": 4, "test": 5}
+    assert summary["device"] == runs[0]["models"][label]["device"]
+    assert summary["device"].startswith("CPU (")
     assert json.loads((out / "study.json").read_text()) == summary
 
 

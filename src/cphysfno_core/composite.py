@@ -4,6 +4,7 @@ optional refiner, built from parts by name or instance, saved without pickled co
 from __future__ import annotations
 
 import copy
+import itertools
 import json
 import pickle
 from collections.abc import Callable
@@ -27,7 +28,14 @@ from .interfaces import (
 )
 from .registry import get_registry
 from .signals import GroundMotions
-from .training import EpochReport, Normalizer, TrainingHistory, print_progress, train_operator
+from .training import (
+    EpochReport,
+    Normalizer,
+    TrainingHistory,
+    print_progress,
+    resolve_device,
+    train_operator,
+)
 
 FORMAT = "cphysfno-composite"
 FORMAT_VERSION = 1
@@ -303,6 +311,24 @@ class CompositeModel:
         return u
 
     # -- prediction ------------------------------------------------------------------
+    @property
+    def device(self) -> torch.device:
+        """Where the trained operator's weights are, and so where it predicts."""
+        self._check_fitted()
+        tensors = itertools.chain(self.operator_.parameters(), self.operator_.buffers())
+        first = next(tensors, None)
+        return torch.device("cpu") if first is None else first.device
+
+    def to(self, device: str | torch.device) -> CompositeModel:
+        """Move the trained operator to ``device`` (e.g. ``"cuda"``, or a
+        ``training.device`` setting such as ``"auto"``); predictions then run there and
+        come back as NumPy arrays. Returns this model."""
+        self._check_fitted()
+        if isinstance(device, str):
+            device = resolve_device(device)
+        self.operator_.to(device)
+        return self
+
     def _check_fitted(self) -> None:
         if getattr(self, "operator_", None) is None or not hasattr(self, "input_normalizer_"):
             raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
@@ -328,11 +354,13 @@ class CompositeModel:
         """
         out = np.empty((n, steps, self.operator_.out_channels))
         self.operator_.eval()
+        device = self.device
         with torch.no_grad():
             for start in range(0, n, PREDICT_CHUNK):
                 rows = slice(start, start + PREDICT_CHUNK)
-                x = torch.from_numpy(self.input_normalizer_.encode(inputs_of(rows)))
-                out[rows] = self.output_normalizer_.decode_torch(self.operator_(x)).numpy()
+                x = torch.from_numpy(self.input_normalizer_.encode(inputs_of(rows))).to(device)
+                decoded = self.output_normalizer_.decode_torch(self.operator_(x))
+                out[rows] = decoded.cpu().numpy()
                 if self.formulation.residual:
                     out[rows] += z[rows]
         return out

@@ -93,6 +93,12 @@ class TrainingConfig(_Strict):
     loss: Literal["relative-l2"] = "relative-l2"
     seed: int = 0
     threads: int | None = Field(None, gt=0, description="torch CPU threads; default: all")
+    device: str = Field(
+        "auto",
+        pattern=r"^(auto|cpu|cuda(:\d+)?|mps)$",
+        description="where the operator trains and predicts: 'auto' (the GPU when torch "
+        "sees one, else the CPU), 'cpu', 'cuda', 'cuda:N' or 'mps'",
+    )
     train_records: int | None = Field(
         None,
         gt=0,

@@ -24,6 +24,7 @@ from .errors import DatasetError
 from .generation import generate_dataset
 from .interfaces import Refiner
 from .registry import get_registry
+from .training import resolve_device
 
 DATASET = "dataset.h5"
 MODELS = "models"
@@ -100,7 +101,7 @@ def train(
         checkpoint = out / MODELS / f"{model.label}.checkpoint.pt"
         if resume and (directory / "model.json").exists() and not checkpoint.exists():
             say(f"{model.label} is trained already")
-            model = CompositeModel.load(directory)
+            model = CompositeModel.load(directory).to(config.training.device)
         else:
             say(
                 f"training {model.label} ({config.training.epochs} epochs, "
@@ -205,7 +206,7 @@ def evaluate(
         directory = out / MODELS / label
         if not (directory / "model.json").exists():
             raise DatasetError(f"no trained model '{label}' in {out / MODELS}: run train first")
-        model = CompositeModel.load(directory)
+        model = CompositeModel.load(directory).to(config.training.device)
         z = None if model.preprocessor is None else data.physics(model.preprocessor.name, "test")
         stages = model.predict_stages(test_gm, z=z)
         predictions[label] = stages
@@ -219,6 +220,7 @@ def evaluate(
             )
         results[label]["best_epoch"] = model.history_.best_epoch
         results[label]["train_seconds"] = model.history_.seconds
+        results[label]["device"] = model.history_.device
     document = {
         "models": results,
         "output_names": list(data.output_names),
@@ -230,9 +232,14 @@ def evaluate(
 
 
 def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Evaluation:
-    """All stages: generate, train, evaluate, report (``resume``: see :func:`train`)."""
+    """All stages: generate, train, evaluate, report (``resume``: see :func:`train`).
+
+    Raises:
+        ConfigError: ``training.device`` is not on this machine (before any simulation).
+    """
     from .report import write_report
 
+    resolve_device(config.training.device)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))

@@ -22,7 +22,6 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-import platform
 import shutil
 import time
 from dataclasses import dataclass
@@ -36,6 +35,7 @@ from . import pipeline
 from .config import DataConfig, ExperimentConfig, parse_config
 from .errors import ConfigError
 from .executors import run_tasks
+from .training import resolve_device
 
 RUNS = "runs"
 TABLE = "table"
@@ -146,6 +146,7 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
     """
     if jobs < 1:
         raise ConfigError(f"jobs = {jobs}: at least one run must train at a time")
+    resolve_device(config.training.device)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
@@ -242,11 +243,16 @@ def _copy_models(run: Run) -> None:
             shutil.copytree(source, target)
 
 
-def device() -> str:
-    """Where training ran: the CUDA device's name, or the CPU and its thread count."""
-    if torch.cuda.is_available():
-        return torch.cuda.get_device_name(0)
-    return f"CPU ({platform.processor() or platform.machine()}, {torch.get_num_threads()} threads)"
+def trained_on(documents: list[dict[str, Any]]) -> str:
+    """Where the models of ``metrics.json`` documents trained, each place once (runs that
+    predate the record count as unknown)."""
+    places = [
+        row.get("device") or "unknown"
+        for document in documents
+        for row in document["models"].values()
+        if "train_seconds" in row
+    ]
+    return ", ".join(dict.fromkeys(places)) or "unknown"
 
 
 def _mean_std(rows: list[list[float]]) -> dict[str, list[float]]:
@@ -274,7 +280,7 @@ def _summary(
         "epochs": epochs,
         "sizes": documents[0]["sizes"],
         "output_names": documents[0]["output_names"],
-        "device": device(),
+        "device": trained_on(documents),
     }
 
 

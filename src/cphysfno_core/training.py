@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import copy
 import os
+import platform
 import sys
 import time
 from collections.abc import Callable
@@ -17,7 +18,7 @@ import numpy as np
 import torch
 
 from .config import TrainingConfig
-from .errors import DatasetError, InputError
+from .errors import ConfigError, DatasetError, InputError
 
 
 @dataclass
@@ -47,6 +48,43 @@ class Normalizer:
         mean = torch.as_tensor(self.mean, dtype=y.dtype, device=y.device)
         std = torch.as_tensor(self.std, dtype=y.dtype, device=y.device)
         return y * std + mean
+
+
+def resolve_device(name: str) -> torch.device:
+    """The torch device of a ``training.device`` setting.
+
+    ``"auto"`` is the first CUDA device when torch sees one, else the CPU.
+
+    Raises:
+        ConfigError: the device is not available to this torch.
+    """
+    if name == "auto":
+        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    device = torch.device(name)
+    if device.type == "cuda":
+        if not torch.cuda.is_available():
+            build = f"CUDA {torch.version.cuda}" if torch.version.cuda else "a CPU-only build"
+            raise ConfigError(
+                f"training.device = '{name}': torch {torch.__version__} ({build}) sees no "
+                "CUDA device; use 'auto' or 'cpu'"
+            )
+        if device.index is not None and device.index >= torch.cuda.device_count():
+            raise ConfigError(
+                f"training.device = '{name}': torch sees {torch.cuda.device_count()} CUDA device(s)"
+            )
+    if device.type == "mps" and not torch.backends.mps.is_available():
+        raise ConfigError(f"training.device = '{name}': torch sees no MPS device")
+    return device
+
+
+def describe_device(device: torch.device) -> str:
+    """A device in words: the GPU's name, or the CPU with its torch thread count."""
+    if device.type == "cuda":
+        return torch.cuda.get_device_name(device)
+    if device.type == "cpu":
+        processor = platform.processor() or platform.machine()
+        return f"CPU ({processor}, {torch.get_num_threads()} threads)"
+    return device.type
 
 
 def relative_l2_loss(prediction: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
@@ -79,12 +117,14 @@ class EpochReport:
 
 @dataclass
 class TrainingHistory:
-    """Loss per epoch and the epoch whose weights were kept (lowest validation loss)."""
+    """Loss per epoch, the epoch whose weights were kept (lowest validation loss), the
+    training time (s) and where it ran (:func:`describe_device`)."""
 
     train_loss: list[float] = field(default_factory=list)
     val_loss: list[float] = field(default_factory=list)
     best_epoch: int = 0
     seconds: float = 0.0
+    device: str = ""
 
     def to_dict(self) -> dict:
         return {
@@ -92,6 +132,7 @@ class TrainingHistory:
             "val_loss": self.val_loss,
             "best_epoch": self.best_epoch,
             "seconds": self.seconds,
+            "device": self.device,
         }
 
 
@@ -162,7 +203,8 @@ def train_operator(
         y_train, y_val: targets in physical units (m); the loss is computed on decoded
             outputs so it is the paper's relative L2 of displacements.
         output_normalizer: decodes the operator output to physical units.
-        settings: epochs, batch size, Adam learning rate, step decay, seed.
+        settings: epochs, batch size, Adam learning rate, step decay, seed, device (the
+            operator is moved to it and stays there; the data are copied to it whole).
         progress: called after every epoch (None for silence).
         checkpoint: file written (atomically) after every epoch with everything needed
             to continue: weights, optimiser, schedule, random states, best epoch so far.
@@ -171,12 +213,14 @@ def train_operator(
     """
     if x_train.shape[0] != y_train.shape[0] or x_val.shape[0] != y_val.shape[0]:
         raise InputError("inputs and targets must hold the same number of records")
+    device = resolve_device(settings.device)
     torch.manual_seed(settings.seed)
     generator = torch.Generator().manual_seed(settings.seed)
-    xt = torch.as_tensor(x_train, dtype=torch.float32)
-    yt = torch.as_tensor(y_train, dtype=torch.float32)
-    xv = torch.as_tensor(x_val, dtype=torch.float32)
-    yv = torch.as_tensor(y_val, dtype=torch.float32)
+    operator.to(device)
+    xt = torch.as_tensor(x_train, dtype=torch.float32, device=device)
+    yt = torch.as_tensor(y_train, dtype=torch.float32, device=device)
+    xv = torch.as_tensor(x_val, dtype=torch.float32, device=device)
+    yv = torch.as_tensor(y_val, dtype=torch.float32, device=device)
     decode = output_normalizer.decode_torch
 
     optimiser = torch.optim.Adam(
@@ -207,7 +251,7 @@ def train_operator(
         error_sum = 0.0
         norm_sum = 0.0
         for start in range(0, xt.shape[0], settings.batch_size):
-            rows = order[start : start + settings.batch_size]
+            rows = order[start : start + settings.batch_size].to(device)
             error, norm = _error_and_norm(decode(operator(xt[rows])), yt[rows])
             loss = error / norm.clamp_min(1e-30)
             optimiser.zero_grad(set_to_none=True)
@@ -257,4 +301,5 @@ def train_operator(
     operator.load_state_dict(best_state)
     operator.eval()
     history.seconds = time.perf_counter() - started
+    history.device = describe_device(device)
     return history
