@@ -65,6 +65,15 @@ def _dask_client(settings: DataConfig):
         yield client
 
 
+def _stop_workers(pool: concurrent.futures.ProcessPoolExecutor) -> None:
+    """Terminate the pool's worker processes, so that a failed or interrupted run leaves no
+    task running on (the executor's own shutdown would wait for every running task)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        process.terminate()
+
+
 def run_tasks(
     function: Callable[..., Any],
     keys: Sequence[int],
@@ -79,7 +88,8 @@ def run_tasks(
     not yet in flight need not exist in memory.
 
     A task whose Dask worker dies is run again elsewhere (``settings.retries`` times);
-    any other failure propagates.
+    any other failure propagates. When a task fails or the caller is interrupted, local
+    worker processes are terminated rather than left to finish their tasks.
     """
     workers = settings.workers or multiprocessing.cpu_count()
     if settings.executor == "serial" or (
@@ -103,7 +113,11 @@ def run_tasks(
                     futures, return_when=concurrent.futures.FIRST_COMPLETED
                 )
 
-            _windowed(submit, wait_any, function, keys, arguments_of, window, on_result)
+            try:
+                _windowed(submit, wait_any, function, keys, arguments_of, window, on_result)
+            except BaseException:
+                _stop_workers(pool)
+                raise
         return
     from distributed import wait
 

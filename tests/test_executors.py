@@ -1,0 +1,25 @@
+"""Local worker processes: a failed task stops the others instead of waiting for them."""
+
+import time
+
+import pytest
+from worker_tasks import fail_or_finish_late
+
+from cphysfno_core.config import DataConfig
+from cphysfno_core.executors import run_tasks
+
+
+def test_a_failed_task_terminates_the_tasks_still_running(toys_in_workers, tmp_path):
+    settings = DataConfig(executor="processes", workers=2)
+    started = time.perf_counter()
+    with pytest.raises(RuntimeError, match="task 0 failed"):
+        run_tasks(
+            fail_or_finish_late,
+            [0, 1],
+            lambda key: (key, str(tmp_path)),
+            settings,
+            lambda key, result: None,
+        )
+    assert time.perf_counter() - started < 7.0  # not waiting for task 1's 8 s
+    time.sleep(max(0.0, 10.0 - (time.perf_counter() - started)))
+    assert not (tmp_path / "finished-1").exists()
