@@ -18,7 +18,12 @@ from cphysfno_fno import FNO1d
 
 import cphysfno_core as cp
 from cphysfno_core import TrainingConfig
-from cphysfno_core.training import Normalizer, train_operator
+from cphysfno_core.training import (
+    Normalizer,
+    describe_device,
+    resolve_device,
+    train_operator,
+)
 
 from .common import Row, load_average
 
@@ -73,22 +78,34 @@ def epoch_flops(sizes: Sizes) -> float:
     return train + val + (fno_flops(rest, sizes.steps, False) if rest else 0.0)
 
 
-def best_matmul_rate(shapes: list[tuple[int, int, int]], repeat: int = 5) -> float:
-    """Best sustained float32 ``torch.mm`` rate (FLOP/s) over ``[M, K] @ [K, N]`` shapes
-    ``(M, K, N)``, each timed ``repeat`` times into a preallocated output."""
+def synchronize(device: str) -> None:
+    """Wait for the work queued on ``device`` (a no-op on the CPU)."""
+    if torch.device(device).type == "cuda":
+        torch.cuda.synchronize(device)
+
+
+def best_matmul_rate(
+    shapes: list[tuple[int, int, int]], repeat: int = 5, device: str = "cpu"
+) -> float:
+    """Best sustained float32 ``torch.mm`` rate (FLOP/s) on ``device`` over
+    ``[M, K] @ [K, N]`` shapes ``(M, K, N)``, each timed ``repeat`` times into a
+    preallocated output."""
     best = 0.0
     for rows, inner, cols in shapes:
-        a, b = torch.randn(rows, inner), torch.randn(inner, cols)
-        out = torch.empty(rows, cols)
+        a = torch.randn(rows, inner, device=device)
+        b = torch.randn(inner, cols, device=device)
+        out = torch.empty(rows, cols, device=device)
         torch.mm(a, b, out=out)
         for _ in range(repeat):
+            synchronize(device)
             start = time.perf_counter()
             torch.mm(a, b, out=out)
+            synchronize(device)
             best = max(best, 2.0 * rows * inner * cols / (time.perf_counter() - start))
     return best
 
 
-def matmul_rate(sizes: Sizes) -> float:
+def matmul_rate(sizes: Sizes, device: str = "cpu") -> float:
     """:func:`best_matmul_rate` over the epoch's main GEMM shapes: the truncated DFT
     ``[2m, T] @ [T, batch * width]``, the inverse DFT ``[T, 2m] @ [2m, batch * width]``, the
     pointwise map ``[batch T, width] @ [width, width]`` and a square ``1024^3``."""
@@ -101,7 +118,8 @@ def matmul_rate(sizes: Sizes) -> float:
             (sizes.steps, 2 * m, columns),
             (sizes.batch * sizes.steps, width, width),
             (1024, 1024, 1024),
-        ]
+        ],
+        device=device,
     )
 
 
@@ -137,17 +155,20 @@ def _data(sizes: Sizes) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     return x[: sizes.n_train], y[: sizes.n_train], x[sizes.n_train :], y[sizes.n_train :]
 
 
-def epoch_seconds(operator: torch.nn.Module, data: tuple, sizes: Sizes) -> float:
-    """Wall time in s of one epoch of :func:`train_operator` (training and validation)."""
+def epoch_seconds(
+    operator: torch.nn.Module, data: tuple, sizes: Sizes, device: str = "cpu"
+) -> float:
+    """Wall time in s of one epoch of :func:`train_operator` on ``device`` (training and
+    validation; the data's copy to the device included)."""
     x, y, x_val, y_val = data
     normalizer = Normalizer(np.zeros(OUT_CHANNELS), np.full(OUT_CHANNELS, 0.01))
-    settings = TrainingConfig(epochs=1, batch_size=sizes.batch, learning_rate=1e-3)
+    settings = TrainingConfig(epochs=1, batch_size=sizes.batch, learning_rate=1e-3, device=device)
     start = time.perf_counter()
     train_operator(operator, x, y, x_val, y_val, normalizer, settings, progress=None)
     return time.perf_counter() - start
 
 
-def run(quick: bool = False) -> list[Row]:
+def run(quick: bool = False, device: str = "cpu") -> list[Row]:
     sizes = QUICK if quick else FULL
     repeat = 2 if quick else 5
     data = _data(sizes)
@@ -163,12 +184,12 @@ def run(quick: bool = False) -> list[Row]:
     times = {label: [] for label in candidates}
     warm_up = _data(QUICK)
     for operator in candidates.values():
-        epoch_seconds(operator, warm_up, QUICK)
+        epoch_seconds(operator, warm_up, QUICK, device)
     rates = []
     for _ in range(repeat):
         for label, operator in candidates.items():
-            times[label].append(epoch_seconds(operator, data, sizes))
-            rates.append(matmul_rate(sizes))
+            times[label].append(epoch_seconds(operator, data, sizes, device))
+            rates.append(matmul_rate(sizes, device))
     best = {label: min(values) for label, values in times.items()}
     flops = epoch_flops(sizes)
     rate = max(rates)
@@ -178,7 +199,7 @@ def run(quick: bool = False) -> list[Row]:
         f"+ validation {sizes.n_val})"
     )
     notes = [
-        f"{torch.get_num_threads()} threads; best of {repeat}, interleaved; "
+        f"{describe_device(resolve_device(device))}; best of {repeat}, interleaved; "
         f"load average {load_before} before, {load_average()} after (2 cores)",
         "all epochs: "
         + ", ".join(
