@@ -1,5 +1,8 @@
 """Local worker processes: a failed task stops the others instead of waiting for them."""
 
+import os
+import signal
+import threading
 import time
 
 import pytest
@@ -23,3 +26,21 @@ def test_a_failed_task_terminates_the_tasks_still_running(toys_in_workers, tmp_p
     assert time.perf_counter() - started < 7.0  # not waiting for task 1's 8 s
     time.sleep(max(0.0, 10.0 - (time.perf_counter() - started)))
     assert not (tmp_path / "finished-1").exists()
+
+
+def test_an_interrupted_run_terminates_its_workers(toys_in_workers, tmp_path):
+    settings = DataConfig(executor="processes", workers=2)
+    ctrl_c = threading.Timer(2.0, os.kill, (os.getpid(), signal.SIGINT))
+    ctrl_c.start()
+    started = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        run_tasks(
+            fail_or_finish_late,
+            [1, 2],
+            lambda key: (key, str(tmp_path)),
+            settings,
+            lambda key, result: None,
+        )
+    assert time.perf_counter() - started < 7.0
+    time.sleep(max(0.0, 10.0 - (time.perf_counter() - started)))
+    assert not list(tmp_path.glob("finished-*"))
