@@ -33,7 +33,7 @@ from .interfaces import (
     Structure,
 )
 from .registry import Registry, create, get_registry
-from .signals import GroundMotions, LinearSystem, Responses
+from .signals import GroundMotions, LinearSystem, Responses, TimeGrid
 
 __version__ = "0.1.0"
 
@@ -70,6 +70,7 @@ __all__ = [
     "Responses",
     "RestoringForce",
     "Structure",
+    "TimeGrid",
     "create",
     "get_registry",
     "hookimpl",

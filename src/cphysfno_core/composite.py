@@ -4,6 +4,7 @@ optional refiner, built from parts by name or instance, saved without pickled co
 from __future__ import annotations
 
 import copy
+import dataclasses
 import itertools
 import json
 import pickle
@@ -27,7 +28,7 @@ from .interfaces import (
     validate_params,
 )
 from .registry import get_registry
-from .signals import GroundMotions
+from .signals import GroundMotions, TimeGrid
 from .training import (
     EpochReport,
     Normalizer,
@@ -46,6 +47,15 @@ record at the paper's sizes) stay small and are reused from chunk to chunk."""
 SAVED_ARRAYS = ("input_mean", "input_std", "output_mean", "output_std", "validation_rmse")
 
 
+class SavedGrid(BaseModel):
+    """The training records' time grid in ``model.json``."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    dt: float = Field(gt=0)
+    n_steps: int = Field(ge=2)
+
+
 class SavedModel(BaseModel):
     """Schema of ``model.json``: the parts by registry name and parameters."""
 
@@ -61,6 +71,7 @@ class SavedModel(BaseModel):
     training: dict[str, Any]
     formulation: dict[str, Any] = Field(default_factory=dict)
     history: dict[str, Any] = Field(default_factory=dict)
+    grid: SavedGrid | None = None
 
     @field_validator("structure", "preprocessor", "refiner", "operator")
     @classmethod
@@ -242,6 +253,7 @@ class CompositeModel:
         target = self._target(u, z)
         self.input_normalizer_ = Normalizer.fit(x_train)
         self.output_normalizer_ = Normalizer.fit(target)
+        self.grid_ = motions.grid
         torch.manual_seed(self.training.seed)
         if self.operator_ is None:
             self.operator_ = self._build_operator(x_train.shape[2], u.shape[2])
@@ -284,6 +296,7 @@ class CompositeModel:
         self._check_fitted()
         if self.preprocessor is None:
             raise ConfigError("a refiner works on the physics response z: the baseline has none")
+        self._check_grid(motions)
         refined = copy.copy(self)
         refined.refiner = _resolve("refiner", refiner)
         z = self.physics(motions) if z is None else z
@@ -329,6 +342,21 @@ class CompositeModel:
         self.operator_.to(device)
         return self
 
+    @property
+    def grid(self) -> TimeGrid | None:
+        """The time grid of the training records (None for a model saved before grids
+        were recorded): the operator learned on it, so it predicts on it only."""
+        return getattr(self, "grid_", None)
+
+    def _check_grid(self, motions: GroundMotions) -> None:
+        if self.grid is not None and not motions.grid.matches(self.grid):
+            raise InputError(
+                f"model '{self.label}' was trained on records of {self.grid}; these have "
+                f"{motions.grid}: bring them to its grid first, e.g. "
+                "motions.on_grid(model.grid) (anti-aliased resampling, then cut or "
+                "zero-padded at the end)"
+            )
+
     def _check_fitted(self) -> None:
         if getattr(self, "operator_", None) is None or not hasattr(self, "input_normalizer_"):
             raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
@@ -373,6 +401,7 @@ class CompositeModel:
         number of records.
         """
         self._check_fitted()
+        self._check_grid(motions)
         if self.preprocessor is not None and z is None:
             z = self.physics(motions)
         shape = motions.acceleration.shape
@@ -417,6 +446,7 @@ class CompositeModel:
             "training": self.training.model_dump(mode="json"),
             "formulation": self.formulation.model_dump(mode="json"),
             "history": self.history_.to_dict(),
+            "grid": None if self.grid is None else dataclasses.asdict(self.grid),
         }
         arrays = {
             "input_mean": self.input_normalizer_.mean,
@@ -486,6 +516,8 @@ class CompositeModel:
         model.output_normalizer_ = Normalizer(output_mean, output_std)
         model.validation_rmse_ = validation_rmse
         model.history_ = TrainingHistory(**saved.history) if saved.history else TrainingHistory()
+        if saved.grid is not None:
+            model.grid_ = TimeGrid(saved.grid.dt, saved.grid.n_steps)
         if model.refiner is not None:
             prefix = "refiner."
             model.refiner.load_state_dict(

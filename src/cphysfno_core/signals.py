@@ -31,6 +31,23 @@ def check_finite(array: np.ndarray, what: str) -> None:
 
 
 @dataclass(frozen=True)
+class TimeGrid:
+    """A uniform time grid: ``n_steps`` samples every ``dt`` s from t = 0."""
+
+    dt: float
+    n_steps: int
+
+    def __str__(self) -> str:
+        return f"{self.n_steps} samples at dt = {self.dt:g} s"
+
+    def matches(self, other: TimeGrid) -> bool:
+        """Same number of samples and the same step (within the resampling tolerance)."""
+        from .resampling import same_step
+
+        return self.n_steps == other.n_steps and same_step(self.dt, other.dt)
+
+
+@dataclass(frozen=True)
 class GroundMotions:
     """A batch of ground acceleration records on one uniform time grid.
 
@@ -90,6 +107,28 @@ class GroundMotions:
     def duration(self) -> float:
         """Length of the record in s (time of the last sample)."""
         return (self.n_steps - 1) * self.dt
+
+    @property
+    def grid(self) -> TimeGrid:
+        """The time grid of the records."""
+        return TimeGrid(self.dt, self.n_steps)
+
+    def on_grid(self, grid: TimeGrid) -> GroundMotions:
+        """The same motions on ``grid``: resampled with anti-aliasing to its step (see
+        :func:`cphysfno_core.resampling.resample`), then cut or zero-padded at the end to
+        its number of samples.
+
+        Raises:
+            InputError: the two steps are not in a ratio of integers up to 1000.
+        """
+        from .resampling import resample
+
+        ag = resample(self.acceleration, self.dt, grid.dt)
+        if ag.shape[1] >= grid.n_steps:
+            ag = ag[:, : grid.n_steps]
+        else:
+            ag = np.pad(ag, ((0, 0), (0, grid.n_steps - ag.shape[1])))
+        return GroundMotions(ag, grid.dt, self.metadata)
 
     def __len__(self) -> int:
         return self.n_records
