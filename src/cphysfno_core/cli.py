@@ -115,6 +115,23 @@ def _summarise(args: argparse.Namespace) -> int:
     return 0
 
 
+def _predict(args: argparse.Namespace) -> int:
+    from .prediction_files import predict_file
+
+    run = predict_file(
+        args.model, args.motions, args.out, dt=args.dt, on_grid=args.on_grid, device=args.device
+    )
+    print(
+        f"{run.records} records predicted in {run.seconds:.2f} s "
+        f"({1e3 * run.seconds / run.records:.1f} ms per record)"
+    )
+    print("peak |displacement| per output, median over records (m):")
+    for name, peak in run.peaks.items():
+        print(f"  {name:<12} {peak:.4g}")
+    print(f"\npredictions: {run.out}")
+    return 0
+
+
 def _print_means(summary: dict, over: str) -> None:
     """Print the per-output mean relative L2 of every model of a study summary."""
     from .report import format_table
@@ -170,6 +187,25 @@ def build_parser() -> argparse.ArgumentParser:
         "without generating or training",
     )
     study.set_defaults(func=_study)
+    text = (
+        "predict the displacement histories of ground motions in a file (.npz with "
+        "acceleration [N, T] in m/s^2 and dt in s, or .npy with --dt) with a saved model"
+    )
+    predict = commands.add_parser("predict", help=text, description=text)
+    predict.add_argument("model", help="a saved model's folder, e.g. runs/x/models/<label>")
+    predict.add_argument("motions", help=".npz (acceleration, dt) or .npy file")
+    predict.add_argument("--out", required=True, help=".npz file to write")
+    predict.add_argument("--dt", type=float, help="time step of a .npy file, s")
+    predict.add_argument(
+        "--on-grid",
+        action="store_true",
+        help="resample records on another time grid to the model's (anti-aliased, then cut "
+        "or zero-padded at the end) instead of refusing them",
+    )
+    predict.add_argument(
+        "--device", default="auto", help="where the operator runs (auto, cpu, cuda, ...)"
+    )
+    predict.set_defaults(func=_predict)
     text = "summarise finished run folders (e.g. one per seed) as study.json does"
     summary = commands.add_parser("summarise", help=text, description=text)
     summary.add_argument("runs", nargs="+", help="folders written by cphysfno run")

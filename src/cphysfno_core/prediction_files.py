@@ -1,0 +1,123 @@
+"""``cphysfno predict``: ground motions read from a file, a saved model's prediction for
+them written to another.
+
+Motions come as ``.npz`` (arrays ``acceleration [N, T]`` in m/s^2 and ``dt`` in s) or as
+``.npy`` (``[N, T]`` or ``[T]`` in m/s^2, with the step given separately). The output
+``.npz`` holds ``mean`` and ``std`` ``[N, T, dof]`` in m, the operator output, ``z`` for a
+C-Phys model, ``dt`` and ``output_names``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .composite import CompositeModel
+from .errors import DatasetError, InputError
+from .signals import GroundMotions
+
+
+def read_motions(path: str | Path, dt: float | None = None) -> GroundMotions:
+    """Ground motions from ``path``: ``.npz`` with ``acceleration`` and ``dt``, or ``.npy``
+    with ``dt`` given here (s).
+
+    Raises:
+        DatasetError: the file is missing, unreadable or lacks an array.
+        InputError: ``dt`` is missing for a ``.npy`` file or given twice, or the values
+            are not ground motions (see :class:`GroundMotions`).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DatasetError(f"{path}: no such file of ground motions")
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".npz":
+            with np.load(path, allow_pickle=False) as stored:
+                missing = {"acceleration", "dt"} - set(stored.files)
+                if missing:
+                    raise DatasetError(
+                        f"{path} lacks {', '.join(sorted(missing))}: it needs 'acceleration' "
+                        "[N, T] in m/s^2 and 'dt' in s"
+                    )
+                if dt is not None:
+                    raise InputError(f"{path} holds its own dt: do not give another")
+                return GroundMotions(stored["acceleration"], float(stored["dt"]))
+        if suffix == ".npy":
+            acceleration = np.load(path, allow_pickle=False)
+            if dt is None:
+                raise InputError(f"{path} is a bare array: give its time step (--dt, s)")
+            return GroundMotions(acceleration, dt)
+    except (OSError, ValueError) as error:
+        raise DatasetError(f"{path}: not a readable NumPy file ({error})") from None
+    raise DatasetError(f"{path}: give ground motions as .npz (acceleration, dt) or .npy")
+
+
+@dataclass
+class PredictionRun:
+    """What :func:`predict_file` did: records, seconds of prediction (physics, operator and
+    refiner), the output file, and per output the median over records of the peak absolute
+    mean displacement (m)."""
+
+    records: int
+    seconds: float
+    out: Path
+    peaks: dict[str, float]
+
+
+def predict_file(
+    model_dir: str | Path,
+    motions_path: str | Path,
+    out: str | Path,
+    *,
+    dt: float | None = None,
+    on_grid: bool = False,
+    device: str = "auto",
+) -> PredictionRun:
+    """Load the model in ``model_dir``, predict the motions of ``motions_path`` and write
+    ``out`` (``.npz``).
+
+    Args:
+        on_grid: bring motions on another time grid onto the model's (anti-aliased
+            resampling, then cut or zero-padded at the end); otherwise they are refused.
+        device: where the operator runs (a ``training.device`` setting).
+
+    Raises:
+        InputError: ``out`` is not an ``.npz`` name, or the motions are on another grid
+            and ``on_grid`` is off.
+    """
+    out = Path(out)
+    if out.suffix != ".npz":
+        raise InputError(f"--out {out}: name an .npz file")
+    model = CompositeModel.load(model_dir).to(device)
+    motions = read_motions(motions_path, dt)
+    if model.grid is not None and not motions.grid.matches(model.grid):
+        if not on_grid:
+            raise InputError(
+                f"{motions_path} holds records of {motions.grid}; model '{model.label}' was "
+                f"trained on {model.grid}: add --on-grid to resample them to it (anti-aliased, "
+                "then cut or zero-padded at the end)"
+            )
+        motions = motions.on_grid(model.grid)
+    started = time.perf_counter()
+    stages = model.predict_stages(motions)
+    seconds = time.perf_counter() - started
+    names = list(model.structure.output_names) if model.structure is not None else []
+    names = names or [f"output-{k}" for k in range(stages.mean.shape[2])]
+    arrays = {
+        "mean": stages.mean,
+        "std": stages.std,
+        "operator_output": stages.operator_output,
+        "dt": np.float64(motions.dt),
+        "output_names": np.array(names),
+    }
+    if stages.z is not None:
+        arrays["z"] = stages.z
+    out.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(out, **arrays)
+    peaks = np.median(np.abs(stages.mean).max(axis=1), axis=0)
+    return PredictionRun(
+        motions.n_records, seconds, out, dict(zip(names, peaks.tolist(), strict=True))
+    )

@@ -1,0 +1,95 @@
+"""``cphysfno predict``: a saved model's predictions for motions in a file, equal to the
+Python API's, and every bad input refused with one line saying what to do."""
+
+import numpy as np
+import pytest
+
+import cphysfno_core as cp
+from cphysfno_core.cli import main
+
+
+@pytest.fixture
+def saved(toy_registry, tmp_path):
+    source = cp.create("ground_motion", "toy-source", n_steps=80, dt=0.02, scale=0.5)
+    structure = cp.create("structure", "toy-structure", cubic=50.0)
+    gm = source.sample(12, np.random.default_rng(1))
+    u = structure.simulate(gm).displacement
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator="toy-operator",
+        refiner="toy-refiner",
+    )
+    model.fit(gm[:8], u[:8], validation=(gm[8:], u[8:]), epochs=1, progress=None)
+    return model, model.save(tmp_path / "model"), gm[8:]
+
+
+def test_predictions_are_the_models_and_the_summary_is_printed(saved, tmp_path, capsys):
+    model, folder, gm = saved
+    motions = tmp_path / "motions.npz"
+    np.savez(motions, acceleration=gm.acceleration, dt=gm.dt)
+    out = tmp_path / "pred" / "out.npz"
+    assert main(["predict", str(folder), str(motions), "--out", str(out)]) == 0
+    stages = model.predict_stages(gm)
+    with np.load(out) as written:
+        np.testing.assert_allclose(written["mean"], stages.mean, rtol=1e-6)
+        np.testing.assert_allclose(written["std"], stages.std, rtol=1e-6)
+        np.testing.assert_allclose(written["z"], stages.z)
+        assert float(written["dt"]) == 0.02
+        assert list(written["output_names"]) == list(model.structure.output_names)
+    printed = capsys.readouterr().out
+    assert "4 records predicted in" in printed and "ms per record" in printed
+    peak = np.median(np.abs(stages.mean[:, :, 0]).max(axis=1))
+    assert f"{peak:.4g}" in printed
+
+
+def test_a_bare_array_with_its_step_and_records_on_another_grid_with_on_grid(
+    saved, tmp_path, capsys
+):
+    model, folder, gm = saved
+    fine = gm.on_grid(cp.TimeGrid(0.01, 200))
+    array = tmp_path / "fine.npy"
+    np.save(array, fine.acceleration)
+    out = tmp_path / "fine-pred.npz"
+    command = ["predict", str(folder), str(array), "--out", str(out), "--dt", "0.01"]
+    assert main(command) == 2
+    error = capsys.readouterr().err
+    assert "holds records of 200 samples at dt = 0.01 s" in error and "--on-grid" in error
+    assert not out.exists()
+    assert main([*command, "--on-grid"]) == 0
+    with np.load(out) as written:
+        expected = model.predict(fine.on_grid(model.grid))[0]
+        np.testing.assert_allclose(written["mean"], expected, rtol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("content", "extra", "message"),
+    [
+        ({"acceleration": np.ones((2, 80))}, [], "lacks dt: it needs 'acceleration'"),
+        ({"acceleration": np.ones((2, 80)), "dt": 0.02}, ["--dt", "0.02"], "holds its own dt"),
+        ({"acceleration": np.full((2, 80), np.nan), "dt": 0.02}, [], "NaN or Inf"),
+        (None, [], "no such file of ground motions"),
+    ],
+)
+def test_bad_motion_files_are_refused(saved, tmp_path, capsys, content, extra, message):
+    _, folder, _ = saved
+    path = tmp_path / "m.npz"
+    if content is not None:
+        np.savez(path, **content)
+    out = tmp_path / "o.npz"
+    assert main(["predict", str(folder), str(path), "--out", str(out), *extra]) == 2
+    assert message in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_a_bare_array_needs_its_step_and_the_output_an_npz_name(saved, tmp_path, capsys):
+    _, folder, gm = saved
+    array = tmp_path / "m.npy"
+    np.save(array, gm.acceleration)
+    assert main(["predict", str(folder), str(array), "--out", str(tmp_path / "o.npz")]) == 2
+    assert "is a bare array: give its time step (--dt, s)" in capsys.readouterr().err
+    command = ["predict", str(folder), str(array), "--dt", "0.02", "--out", "o.csv"]
+    assert main(command) == 2
+    assert "--out o.csv: name an .npz file" in capsys.readouterr().err
+    assert main(["predict", str(tmp_path), str(array), "--dt", "0.02", "--out", "o.npz"]) == 2
+    assert "holds no readable model.json" in capsys.readouterr().err
