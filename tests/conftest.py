@@ -2,6 +2,7 @@ import os
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import cphysfno_core as cp
@@ -28,3 +29,27 @@ def toys_in_workers(toy_registry, monkeypatch):
     monkeypatch.setenv("CPHYSFNO_PLUGINS", "toy_components")
     here = str(Path(__file__).parent)
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))
+
+
+@pytest.fixture
+def toy_records(toy_registry):
+    """The toy structure, 12 toy records (80 samples at 0.02 s) and its response to them."""
+    source = cp.create("ground_motion", "toy-source", n_steps=80, dt=0.02, scale=0.5)
+    structure = cp.create("structure", "toy-structure", cubic=50.0)
+    gm = source.sample(12, np.random.default_rng(1))
+    return structure, gm, structure.simulate(gm).displacement
+
+
+@pytest.fixture
+def trained_toy(toy_records):
+    """A toy C-Phys model with the toy refiner trained one epoch on the first 8 records,
+    and the 12 records."""
+    structure, gm, u = toy_records
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator="toy-operator",
+        refiner="toy-refiner",
+    )
+    model.fit(gm[:8], u[:8], validation=(gm[8:], u[8:]), epochs=1, progress=None)
+    return model, gm

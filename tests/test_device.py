@@ -14,11 +14,8 @@ CUDA = torch.cuda.is_available()
 
 
 @pytest.fixture
-def toy_model(toy_registry):
-    source = cp.create("ground_motion", "toy-source", n_steps=80, dt=0.02, scale=0.5)
-    structure = cp.create("structure", "toy-structure", cubic=50.0)
-    gm = source.sample(12, np.random.default_rng(1))
-    u = structure.simulate(gm).displacement
+def toy_model(toy_records):
+    structure, gm, u = toy_records
     model = cp.compose(structure=structure, preprocessor="toy-linear", operator="toy-operator")
     return model, gm, u
 

@@ -9,18 +9,8 @@ from cphysfno_core.cli import main
 
 
 @pytest.fixture
-def saved(toy_registry, tmp_path):
-    source = cp.create("ground_motion", "toy-source", n_steps=80, dt=0.02, scale=0.5)
-    structure = cp.create("structure", "toy-structure", cubic=50.0)
-    gm = source.sample(12, np.random.default_rng(1))
-    u = structure.simulate(gm).displacement
-    model = cp.compose(
-        structure=structure,
-        preprocessor="toy-linear",
-        operator="toy-operator",
-        refiner="toy-refiner",
-    )
-    model.fit(gm[:8], u[:8], validation=(gm[8:], u[8:]), epochs=1, progress=None)
+def saved(trained_toy, tmp_path):
+    model, gm = trained_toy
     return model, model.save(tmp_path / "model"), gm[8:]
 
 

@@ -19,18 +19,8 @@ class _Exploit:
 
 
 @pytest.fixture
-def saved(toy_registry, tmp_path):
-    structure = cp.create("structure", "toy-structure")
-    gm = cp.create("ground_motion", "toy-source", n_steps=60).sample(8, np.random.default_rng(0))
-    u = structure.simulate(gm).displacement
-    model = cp.compose(
-        structure=structure,
-        preprocessor="toy-linear",
-        operator="toy-operator",
-        refiner="toy-refiner",
-    )
-    model.fit(gm[:5], u[:5], validation=(gm[5:], u[5:]), epochs=1, progress=None)
-    return model.save(tmp_path / "model")
+def saved(trained_toy, tmp_path):
+    return trained_toy[0].save(tmp_path / "model")
 
 
 @pytest.mark.filterwarnings("ignore:Detected pickle protocol")

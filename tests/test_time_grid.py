@@ -9,19 +9,8 @@ import pytest
 import cphysfno_core as cp
 
 
-@pytest.fixture
-def trained(toy_registry):
-    source = cp.create("ground_motion", "toy-source", n_steps=80, dt=0.02, scale=0.5)
-    structure = cp.create("structure", "toy-structure", cubic=50.0)
-    gm = source.sample(12, np.random.default_rng(1))
-    u = structure.simulate(gm).displacement
-    model = cp.compose(structure=structure, preprocessor="toy-linear", operator="toy-operator")
-    model.fit(gm[:8], u[:8], validation=(gm[8:], u[8:]), epochs=1, progress=None)
-    return model, gm
-
-
-def test_the_training_grid_is_kept_and_saved(trained, tmp_path):
-    model, gm = trained
+def test_the_training_grid_is_kept_and_saved(trained_toy, tmp_path):
+    model, gm = trained_toy
     assert model.grid == cp.TimeGrid(0.02, 80)
     loaded = cp.CompositeModel.load(model.save(tmp_path / "m"))
     assert loaded.grid == model.grid
@@ -32,8 +21,8 @@ def test_the_training_grid_is_kept_and_saved(trained, tmp_path):
     ("steps", "dt", "grid"),
     [(100, 0.02, "100 samples at dt = 0.02 s"), (80, 0.01, "80 samples at dt = 0.01 s")],
 )
-def test_records_on_another_grid_are_refused_with_the_way_out(trained, steps, dt, grid):
-    model, _ = trained
+def test_records_on_another_grid_are_refused_with_the_way_out(trained_toy, steps, dt, grid):
+    model, _ = trained_toy
     other = cp.GroundMotions(np.ones((2, steps)), dt)
     message = (
         f"trained on records of 80 samples at dt = 0.02 s; these have {grid}: bring them "
@@ -45,8 +34,8 @@ def test_records_on_another_grid_are_refused_with_the_way_out(trained, steps, dt
     assert mean.shape == std.shape == (2, 80, 2)
 
 
-def test_a_model_saved_without_its_grid_still_loads_and_predicts(trained, tmp_path):
-    model, gm = trained
+def test_a_model_saved_without_its_grid_still_loads_and_predicts(trained_toy, tmp_path):
+    model, gm = trained_toy
     folder = model.save(tmp_path / "old")
     saved = json.loads((folder / "model.json").read_text())
     del saved["grid"]
@@ -56,8 +45,8 @@ def test_a_model_saved_without_its_grid_still_loads_and_predicts(trained, tmp_pa
     assert old.predict(gm[8:])[0].shape == (4, 80, 2)
 
 
-def test_a_malformed_grid_is_refused_at_load(trained, tmp_path):
-    model, _ = trained
+def test_a_malformed_grid_is_refused_at_load(trained_toy, tmp_path):
+    model, _ = trained_toy
     folder = model.save(tmp_path / "bad")
     saved = json.loads((folder / "model.json").read_text())
     saved["grid"] = {"dt": -0.01, "n_steps": 80}
