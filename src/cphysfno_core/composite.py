@@ -8,6 +8,7 @@ import dataclasses
 import itertools
 import json
 import pickle
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,7 +19,13 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .config import ComponentSpec, FormulationConfig, TrainingConfig
-from .errors import ConfigError, DatasetError, InputError, NotFittedError
+from .errors import (
+    ConfigError,
+    DatasetError,
+    ExtrapolationWarning,
+    InputError,
+    NotFittedError,
+)
 from .interfaces import (
     NeuralOperator,
     PhysicsPreprocessor,
@@ -45,6 +52,11 @@ PREDICT_CHUNK = 8
 record at the paper's sizes) stay small and are reused from chunk to chunk."""
 
 SAVED_ARRAYS = ("input_mean", "input_std", "output_mean", "output_std", "validation_rmse")
+EXTRAPOLATION_FACTOR = 3.0
+"""Records whose PGA lies more than this factor below the weakest or above the strongest
+training record are flagged as extrapolations."""
+G = 9.80665
+"""Standard gravity, m/s^2."""
 
 
 class SavedGrid(BaseModel):
@@ -72,6 +84,7 @@ class SavedModel(BaseModel):
     formulation: dict[str, Any] = Field(default_factory=dict)
     history: dict[str, Any] = Field(default_factory=dict)
     grid: SavedGrid | None = None
+    training_pga: tuple[float, float] | None = None
 
     @field_validator("structure", "preprocessor", "refiner", "operator")
     @classmethod
@@ -254,6 +267,8 @@ class CompositeModel:
         self.input_normalizer_ = Normalizer.fit(x_train)
         self.output_normalizer_ = Normalizer.fit(target)
         self.grid_ = motions.grid
+        pga = motions.pga
+        self.training_pga_ = (float(pga.min()), float(pga.max()))
         torch.manual_seed(self.training.seed)
         if self.operator_ is None:
             self.operator_ = self._build_operator(x_train.shape[2], u.shape[2])
@@ -357,6 +372,24 @@ class CompositeModel:
                 "zero-padded at the end)"
             )
 
+    def _warn_extrapolation(self, motions: GroundMotions) -> None:
+        """Warn (:class:`ExtrapolationWarning`) about records whose PGA lies more than
+        :data:`EXTRAPOLATION_FACTOR` beyond the training records' range."""
+        low, high = getattr(self, "training_pga_", None) or (0.0, np.inf)
+        pga = motions.pga
+        outside = (pga < low / EXTRAPOLATION_FACTOR) | (pga > high * EXTRAPOLATION_FACTOR)
+        if not outside.any():
+            return
+        message = (
+            f"{int(outside.sum())} of {len(pga)} records have a PGA outside "
+            f"{low / EXTRAPOLATION_FACTOR:.3g}-{high * EXTRAPOLATION_FACTOR:.3g} m/s^2, "
+            f"{EXTRAPOLATION_FACTOR:g} times beyond the {low:.3g}-{high:.3g} m/s^2 of model "
+            f"'{self.label}''s training records: its predictions for them are extrapolations"
+        )
+        if low / G <= np.median(pga) <= high / G:
+            message += " (their PGA falls in the training range divided by g: are they in g?)"
+        warnings.warn(message, ExtrapolationWarning, stacklevel=3)
+
     def _check_fitted(self) -> None:
         if getattr(self, "operator_", None) is None or not hasattr(self, "input_normalizer_"):
             raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
@@ -402,6 +435,7 @@ class CompositeModel:
         """
         self._check_fitted()
         self._check_grid(motions)
+        self._warn_extrapolation(motions)
         if self.preprocessor is not None and z is None:
             z = self.physics(motions)
         shape = motions.acceleration.shape
@@ -447,6 +481,7 @@ class CompositeModel:
             "formulation": self.formulation.model_dump(mode="json"),
             "history": self.history_.to_dict(),
             "grid": None if self.grid is None else dataclasses.asdict(self.grid),
+            "training_pga": getattr(self, "training_pga_", None),
         }
         arrays = {
             "input_mean": self.input_normalizer_.mean,
@@ -518,6 +553,7 @@ class CompositeModel:
         model.history_ = TrainingHistory(**saved.history) if saved.history else TrainingHistory()
         if saved.grid is not None:
             model.grid_ = TimeGrid(saved.grid.dt, saved.grid.n_steps)
+        model.training_pga_ = saved.training_pga
         if model.refiner is not None:
             prefix = "refiner."
             model.refiner.load_state_dict(

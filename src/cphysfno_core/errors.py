@@ -38,3 +38,8 @@ class PluginError(CphysfnoError, RuntimeError):
 class CphysfnoWarning(UserWarning):
     """Something was done only in part (fewer records, a looser match): the message says
     what and why."""
+
+
+class ExtrapolationWarning(CphysfnoWarning):
+    """Records lie far outside what a model was trained on, so its predictions for them
+    are extrapolations."""
