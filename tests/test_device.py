@@ -58,9 +58,14 @@ def test_predictions_do_not_depend_on_where_the_operator_sits(toy_model):
     model.fit(gm[:8], u[:8], validation=(gm[8:], u[8:]), epochs=2, progress=None, device="auto")
     assert model.device == resolve_device("auto")
     assert model.history_.device == describe_device(model.device)
-    assert describe_device(torch.device("cpu")) == (
-        f"CPU ({platform.processor() or platform.machine()}, {torch.get_num_threads()} threads)"
-    )
+    threads = torch.get_num_threads()
+    processor = platform.processor() or platform.machine()
+    try:
+        for count, words in ((2, "2 threads"), (1, "1 thread")):
+            torch.set_num_threads(count)
+            assert describe_device(torch.device("cpu")) == f"CPU ({processor}, {words})"
+    finally:
+        torch.set_num_threads(threads)
     here = model.predict(gm[8:])
     moved = model.to("cpu")
     assert moved is model and model.device == torch.device("cpu")

@@ -83,7 +83,8 @@ def describe_device(device: torch.device) -> str:
         return torch.cuda.get_device_name(device)
     if device.type == "cpu":
         processor = platform.processor() or platform.machine()
-        return f"CPU ({processor}, {torch.get_num_threads()} threads)"
+        threads = torch.get_num_threads()
+        return f"CPU ({processor}, {threads} thread{'s' if threads != 1 else ''})"
     return device.type
 
 
