@@ -102,6 +102,8 @@ def test_runs_by_name_from_a_config(tmp_path, capsys) -> None:
     longer = cp.create("ground_motion", "white-noise", duration=3.0).sample(
         2, np.random.default_rng(1)
     )
-    mean, std = model.predict(longer)
-    assert mean.shape == std.shape == (2, 301, 5)
+    with pytest.raises(cp.InputError, match="trained on records of 201 samples at dt = 0.01"):
+        model.predict(longer)  # the trunk would stretch 3 s onto the 2 s it was trained on
+    mean, std = model.predict(longer.on_grid(model.grid))
+    assert mean.shape == std.shape == (2, 201, 5)
     assert np.isfinite(mean).all()

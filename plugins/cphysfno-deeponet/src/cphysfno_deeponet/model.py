@@ -80,7 +80,8 @@ class DeepONet(NeuralOperator):
     trunk is evaluated at the record's own sample times, so one function sampled at two
     resolutions over the same duration gives (up to the interpolation error) the same
     output. A record of another duration is read on the same relative axis, i.e.
-    stretched to the training duration.
+    stretched to the training duration, which is not the response to it: a trained
+    :class:`~cphysfno_core.CompositeModel` predicts only on its training grid.
 
     Args:
         in_channels: input channels (the output DOFs of z plus the time coordinate).
