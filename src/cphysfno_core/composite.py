@@ -383,8 +383,9 @@ class CompositeModel:
         message = (
             f"{int(outside.sum())} of {len(pga)} records have a PGA outside "
             f"{low / EXTRAPOLATION_FACTOR:.3g}-{high * EXTRAPOLATION_FACTOR:.3g} m/s^2, "
-            f"{EXTRAPOLATION_FACTOR:g} times beyond the {low:.3g}-{high:.3g} m/s^2 of model "
-            f"'{self.label}''s training records: its predictions for them are extrapolations"
+            f"{EXTRAPOLATION_FACTOR:g} times beyond the {low:.3g}-{high:.3g} m/s^2 of the "
+            f"records model '{self.label}' was trained on: its predictions for them are "
+            "extrapolations"
         )
         if low / G <= np.median(pga) <= high / G:
             message += " (their PGA falls in the training range divided by g: are they in g?)"
