@@ -44,7 +44,7 @@ def test_a_bare_array_with_its_step_and_records_on_another_grid_with_on_grid(
     command = ["predict", str(folder), str(array), "--out", str(out), "--dt", "0.01"]
     assert main(command) == 2
     error = capsys.readouterr().err
-    assert "holds records of 200 samples at dt = 0.01 s" in error and "--on-grid" in error
+    assert "these have 200 samples at dt = 0.01 s" in error and "--on-grid" in error
     assert not out.exists()
     assert main([*command, "--on-grid"]) == 0
     with np.load(out) as written:
@@ -68,7 +68,8 @@ def test_bad_motion_files_are_refused(saved, tmp_path, capsys, content, extra, m
         np.savez(path, **content)
     out = tmp_path / "o.npz"
     assert main(["predict", str(folder), str(path), "--out", str(out), *extra]) == 2
-    assert message in capsys.readouterr().err
+    error = capsys.readouterr().err
+    assert message in error and "not a readable NumPy file" not in error
     assert not out.exists()
 
 

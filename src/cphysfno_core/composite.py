@@ -26,6 +26,7 @@ from .errors import (
     InputError,
     NotFittedError,
 )
+from .intensity import STANDARD_GRAVITY, peak_ground_acceleration
 from .interfaces import (
     NeuralOperator,
     PhysicsPreprocessor,
@@ -55,8 +56,6 @@ SAVED_ARRAYS = ("input_mean", "input_std", "output_mean", "output_std", "validat
 EXTRAPOLATION_FACTOR = 3.0
 """Records whose PGA lies more than this factor below the weakest or above the strongest
 training record are flagged as extrapolations."""
-G = 9.80665
-"""Standard gravity, m/s^2."""
 
 
 class SavedGrid(BaseModel):
@@ -267,7 +266,7 @@ class CompositeModel:
         self.input_normalizer_ = Normalizer.fit(x_train)
         self.output_normalizer_ = Normalizer.fit(target)
         self.grid_ = motions.grid
-        pga = motions.pga
+        pga = peak_ground_acceleration(motions.acceleration)
         self.training_pga_ = (float(pga.min()), float(pga.max()))
         torch.manual_seed(self.training.seed)
         if self.operator_ is None:
@@ -369,14 +368,14 @@ class CompositeModel:
                 f"model '{self.label}' was trained on records of {self.grid}; these have "
                 f"{motions.grid}: bring them to its grid first, e.g. "
                 "motions.on_grid(model.grid) (anti-aliased resampling, then cut or "
-                "zero-padded at the end)"
+                "zero-padded at the end; cphysfno predict --on-grid does the same)"
             )
 
     def _warn_extrapolation(self, motions: GroundMotions) -> None:
         """Warn (:class:`ExtrapolationWarning`) about records whose PGA lies more than
         :data:`EXTRAPOLATION_FACTOR` beyond the training records' range."""
         low, high = getattr(self, "training_pga_", None) or (0.0, np.inf)
-        pga = motions.pga
+        pga = peak_ground_acceleration(motions.acceleration)
         outside = (pga < low / EXTRAPOLATION_FACTOR) | (pga > high * EXTRAPOLATION_FACTOR)
         if not outside.any():
             return
@@ -387,7 +386,7 @@ class CompositeModel:
             f"records model '{self.label}' was trained on: its predictions for them are "
             "extrapolations"
         )
-        if low / G <= np.median(pga) <= high / G:
+        if low / STANDARD_GRAVITY <= np.median(pga) <= high / STANDARD_GRAVITY:
             message += " (their PGA falls in the training range divided by g: are they in g?)"
         warnings.warn(message, ExtrapolationWarning, stacklevel=3)
 

@@ -33,26 +33,29 @@ def read_motions(path: str | Path, dt: float | None = None) -> GroundMotions:
     if not path.is_file():
         raise DatasetError(f"{path}: no such file of ground motions")
     suffix = path.suffix.lower()
+    if suffix not in (".npz", ".npy"):
+        raise DatasetError(f"{path}: give ground motions as .npz (acceleration, dt) or .npy")
     try:
         if suffix == ".npz":
             with np.load(path, allow_pickle=False) as stored:
-                missing = {"acceleration", "dt"} - set(stored.files)
-                if missing:
-                    raise DatasetError(
-                        f"{path} lacks {', '.join(sorted(missing))}: it needs 'acceleration' "
-                        "[N, T] in m/s^2 and 'dt' in s"
-                    )
-                if dt is not None:
-                    raise InputError(f"{path} holds its own dt: do not give another")
-                return GroundMotions(stored["acceleration"], float(stored["dt"]))
-        if suffix == ".npy":
-            acceleration = np.load(path, allow_pickle=False)
-            if dt is None:
-                raise InputError(f"{path} is a bare array: give its time step (--dt, s)")
-            return GroundMotions(acceleration, dt)
+                arrays = dict(stored)
+        else:
+            arrays = {"acceleration": np.load(path, allow_pickle=False)}
     except (OSError, ValueError) as error:
         raise DatasetError(f"{path}: not a readable NumPy file ({error})") from None
-    raise DatasetError(f"{path}: give ground motions as .npz (acceleration, dt) or .npy")
+    if suffix == ".npy":
+        if dt is None:
+            raise InputError(f"{path} is a bare array: give its time step (--dt, s)")
+        return GroundMotions(arrays["acceleration"], dt)
+    missing = {"acceleration", "dt"} - set(arrays)
+    if missing:
+        raise DatasetError(
+            f"{path} lacks {', '.join(sorted(missing))}: it needs 'acceleration' [N, T] in "
+            "m/s^2 and 'dt' in s"
+        )
+    if dt is not None:
+        raise InputError(f"{path} holds its own dt: do not give another")
+    return GroundMotions(arrays["acceleration"], float(arrays["dt"]))
 
 
 @dataclass
@@ -86,20 +89,14 @@ def predict_file(
 
     Raises:
         InputError: ``out`` is not an ``.npz`` name, or the motions are on another grid
-            and ``on_grid`` is off.
+            than the model's and ``on_grid`` is off (see :meth:`CompositeModel.grid`).
     """
     out = Path(out)
     if out.suffix != ".npz":
         raise InputError(f"--out {out}: name an .npz file")
     model = CompositeModel.load(model_dir).to(device)
     motions = read_motions(motions_path, dt)
-    if model.grid is not None and not motions.grid.matches(model.grid):
-        if not on_grid:
-            raise InputError(
-                f"{motions_path} holds records of {motions.grid}; model '{model.label}' was "
-                f"trained on {model.grid}: add --on-grid to resample them to it (anti-aliased, "
-                "then cut or zero-padded at the end)"
-            )
+    if on_grid and model.grid is not None:
         motions = motions.on_grid(model.grid)
     started = time.perf_counter()
     stages = model.predict_stages(motions)

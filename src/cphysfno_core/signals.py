@@ -109,11 +109,6 @@ class GroundMotions:
         return (self.n_steps - 1) * self.dt
 
     @property
-    def pga(self) -> np.ndarray:
-        """``[n_records]`` peak ground acceleration, m/s^2."""
-        return np.abs(self.acceleration).max(axis=1)
-
-    @property
     def grid(self) -> TimeGrid:
         """The time grid of the records."""
         return TimeGrid(self.dt, self.n_steps)
