@@ -15,6 +15,14 @@ from typing import Any, Literal
 import numpy as np
 
 from .loader import import_opensees
+from .sac9_elastic import (
+    ElasticFrame,
+    FloorState,
+    elastic_frame,
+    elastic_response,
+    first_yield_step,
+    set_state,
+)
 from .sac9_model import FrameConfig, build_frame
 from .transient import Abandoned, integrate
 
@@ -42,6 +50,11 @@ class SolverConfig:
         tolerance: its tolerance.
         max_iterations: iterations per step before the retry ladder takes over.
         algorithm: solution algorithm and its options (``ops.algorithm`` arguments).
+        elastic_start: take the response of the fibre model up to the first step at which
+            a fibre reaches :data:`ELASTIC_SHARE` of its yield stress from the exact
+            condensed linear model (:mod:`~cphysfno_opensees.sac9_elastic`) and start
+            OpenSees from its state there; a record that never gets that far needs no
+            OpenSees analysis.
     """
 
     system: Literal["ProfileSPD", "BandSPD", "BandGeneral", "UmfPack"] = "ProfileSPD"
@@ -50,6 +63,7 @@ class SolverConfig:
     tolerance: float = 100.0
     max_iterations: int = 50
     algorithm: tuple[str, ...] = ("ModifiedNewton", "-FactorOnce")
+    elastic_start: bool = True
 
 
 @dataclass(frozen=True)
@@ -66,6 +80,11 @@ class Rayleigh:
         total = omega_a + omega_b
         return cls(2.0 * ratio * omega_a * omega_b / total, 2.0 * ratio / total)
 
+
+ELASTIC_SHARE = 0.95
+"""Share of the yield stress up to which a fibre's stress is taken from the condensed linear
+model when :attr:`SolverConfig.elastic_start` is on (its stresses agree with the OpenSees
+model's to about 1e-5, the second-order P-Delta effect of the columns' axial forces)."""
 
 INTERIOR_DRIFT_LIMIT = 0.015
 """Largest peak story drift ratio up to which elastic interior sections are trusted: a
@@ -86,9 +105,12 @@ def analyse_record(
     The ground acceleration is linear between samples and the equations are integrated
     with Newmark's average acceleration rule at ``dt``, one step per sample, through
     :func:`cphysfno_opensees.transient.integrate` (which retries a step that does not
-    converge). A model with elastic interior sections whose peak story drift ratio
-    passes :data:`INTERIOR_DRIFT_LIMIT` is analysed again with fibres everywhere; its
-    first analysis stops within 100 steps of the drift passing the limit.
+    converge). With ``solver.elastic_start`` (fibre model), the steps before the first
+    fibre reaches :data:`ELASTIC_SHARE` of its yield stress come from the exact condensed
+    linear model and OpenSees starts from its state there (:func:`elastic_start`). A model
+    with elastic interior sections whose peak story drift ratio passes
+    :data:`INTERIOR_DRIFT_LIMIT` is analysed again with fibres everywhere; its first
+    analysis stops within 100 steps of the drift passing the limit.
 
     Args:
         frame_config: the model.
@@ -103,18 +125,67 @@ def analyse_record(
     Raises:
         AnalysisFailed: a step that nothing could complete.
     """
+    start = None
+    if solver.elastic_start and frame_config.model == "fibre":
+        start = elastic_start(frame_config, damping, acceleration, dt)
+        if start.step == len(acceleration) - 1:
+            return start.displacement
     if not frame_config.elastic_interior:
-        return transient_response(frame_config, solver, damping, acceleration, dt)[0]
+        return transient_response(frame_config, solver, damping, acceleration, dt, start=start)[0]
     try:
         u, heights = transient_response(
-            frame_config, solver, damping, acceleration, dt, drift_limit=INTERIOR_DRIFT_LIMIT
+            frame_config,
+            solver,
+            damping,
+            acceleration,
+            dt,
+            drift_limit=INTERIOR_DRIFT_LIMIT,
+            start=start,
         )
         if peak_drift_ratio(u, heights) <= INTERIOR_DRIFT_LIMIT:
             return u
     except Abandoned:
         pass
     fibres = dataclasses.replace(frame_config, elastic_interior=False)
-    return transient_response(fibres, solver, damping, acceleration, dt)[0]
+    return transient_response(fibres, solver, damping, acceleration, dt, start=start)[0]
+
+
+@dataclass(frozen=True)
+class ElasticStart:
+    """Where OpenSees takes over from the condensed linear model.
+
+    Attributes:
+        step: the last step taken from the linear model.
+        displacement: ``[step + 1, 9]`` its floor displacements up to there, m.
+        state: its Newmark state of the floors at ``step``.
+        model: the condensed model.
+    """
+
+    step: int
+    displacement: np.ndarray
+    state: FloorState
+    model: ElasticFrame
+
+
+def elastic_start(
+    frame_config: FrameConfig, damping: Rayleigh, acceleration: np.ndarray, dt: float
+) -> ElasticStart:
+    """The response of the condensed linear model of the (fibre) frame up to the step
+    before a fibre first reaches :data:`ELASTIC_SHARE` of its yield stress, or to the end
+    of the record if none does (then ``step`` is the last step).
+
+    Args:
+        frame_config: the fibre model (either interior).
+        damping: Rayleigh coefficients.
+        acceleration: ``[T]`` ground acceleration, m/s^2.
+        dt: time step, s.
+    """
+    model = elastic_frame(frame_config, damping.mass, damping.stiffness)
+    u, v, a = elastic_response(model, np.asarray(acceleration, dtype=float), dt)
+    first = first_yield_step(model, u, ELASTIC_SHARE)
+    step = len(u) - 1 if first is None else max(first - 1, 0)
+    state = FloorState(u[step], v[step], a[step])
+    return ElasticStart(step, u[: step + 1], state, model)
 
 
 def peak_drift_ratio(u: np.ndarray, heights: np.ndarray) -> float:
@@ -132,6 +203,7 @@ def transient_response(
     acceleration: np.ndarray,
     dt: float,
     drift_limit: float | None = None,
+    start: ElasticStart | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """One OpenSees analysis of the model as configured (no fallback), as
     :func:`analyse_record` describes it.
@@ -140,6 +212,8 @@ def transient_response(
         drift_limit: with a story drift ratio above it in any block of 100 steps, the
             analysis stops with :class:`~cphysfno_opensees.transient.Abandoned`; None: run
             to the end.
+        start: the linear model's response up to a step and its state there, from which
+            the analysis continues; None: from rest at the first step.
 
     Returns:
         ``[T, 9]`` floor displacements (m) and the ``[9]`` floor elevations above the
@@ -151,6 +225,11 @@ def transient_response(
     series, pattern = 1, 1
     ops.timeSeries("Path", series, "-dt", dt, "-values", *np.asarray(acceleration, dtype=float))
     ops.pattern("UniformExcitation", pattern, 1, "-accel", series)
+    first = 0
+    if start is not None:
+        first = start.step
+        ops.setTime(first * dt)
+        set_state(ops, start.model, start.state)
     configure_solver(ops, solver)
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
@@ -169,7 +248,7 @@ def transient_response(
     try:
         u = integrate(
             ops,
-            len(acceleration) - 1,
+            len(acceleration) - 1 - first,
             dt,
             read,
             algorithm=solver.algorithm,
@@ -179,6 +258,8 @@ def transient_response(
         if collecting:
             gc.enable()
         ops.wipe()
+    if start is not None:
+        u = np.concatenate([start.displacement, u[1:]])
     return u, frame.heights
 
 

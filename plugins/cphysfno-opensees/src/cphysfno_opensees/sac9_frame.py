@@ -61,6 +61,12 @@ class Sac9FrameParams(OpenSeesParams):
         le=1e4,
         description="largest norm of the unbalanced nodal forces of a converged step, N",
     )
+    elastic_start: bool = Field(
+        True,
+        description="fibre model: take the response up to the first step at which a fibre "
+        "nears its yield stress from the exact condensed linear model and start OpenSees "
+        "there (no OpenSees analysis for a record that never yields)",
+    )
     pushover_drift: float = Field(
         0.03, gt=0.0, le=0.1, description="roof drift ratio the pushover reaches"
     )
@@ -111,7 +117,9 @@ class Sac9Frame(OpenSeesStructure):
     @property
     def solver_config(self) -> SolverConfig:
         """How each step is solved."""
-        return SolverConfig(tolerance=self.params.tolerance)
+        return SolverConfig(
+            tolerance=self.params.tolerance, elastic_start=self.params.elastic_start
+        )
 
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
         """``analyse(a_g [T] m/s^2, dt s) -> [T, 9]`` floor displacements (m): the model,

@@ -98,11 +98,13 @@ class Frame:
             floor's (the masters of the rigid diaphragms).
         heights: ``[9]`` elevations of those levels above the ground, m.
         masses: ``[9]`` horizontal masses at those nodes, kg.
+        yield_stresses: yield stress (Pa) of the steel of every member, by element tag.
     """
 
     floors: list[int]
     heights: np.ndarray
     masses: np.ndarray
+    yield_stresses: dict[int, float]
 
 
 class _Tags:
@@ -152,7 +154,7 @@ def build_frame(ops: Any, config: FrameConfig) -> Frame:
     ops.geomTransf("PDelta" if config.p_delta else "Linear", column_transform)
     ops.geomTransf("Linear", beam_transform)
     builder = _MemberBuilder(ops, config, tags)
-    frame = Frame(floors, np.asarray(heights[FIRST_FLOOR:]), masses)
+    frame = Frame(floors, np.asarray(heights[FIRST_FLOOR:]), masses, builder.yield_stresses)
     for story in range(len(heights) - 1):
         for column in range(N_COLUMNS):
             _column(ops, builder, grid, story, column, column_transform)
@@ -237,6 +239,7 @@ class _MemberBuilder:
     def __init__(self, ops: Any, config: FrameConfig, tags: _Tags) -> None:
         self.ops, self.config, self.tags = ops, config, tags
         self.integrations: dict[tuple[str, float], int] = {}
+        self.yield_stresses: dict[int, float] = {}
 
     def member(
         self, node_i: int, node_j: int, shape: WideFlange, yield_stress: float, transform: int
@@ -245,9 +248,11 @@ class _MemberBuilder:
         if key not in self.integrations:
             self.integrations[key] = self._integration(shape, yield_stress)
         iterations, tolerance = self.config.element_iterations
+        element = self.tags.next("element")
+        self.yield_stresses[element] = yield_stress
         self.ops.element(
             "forceBeamColumn",
-            self.tags.next("element"),
+            element,
             node_i,
             node_j,
             transform,

@@ -107,7 +107,7 @@ def integrate(
         out[k] = read()
         if abandon is not None and k % check_every == 0:
             if abandon(out[k - check_every + 1 : k + 1]):
-                raise Abandoned(k * dt)
+                raise Abandoned(ops.getTime())
     return out
 
 
