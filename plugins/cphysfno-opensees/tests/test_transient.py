@@ -211,3 +211,25 @@ def test_abandon_sees_each_block_of_rows_once_and_stops_the_analysis():
     assert raised.value.time_s == pytest.approx(0.6)
     np.testing.assert_allclose(np.concatenate(blocks), 0.1 * np.arange(1, 7))
     assert ops.time == pytest.approx(0.6)  # no step after the one that was judged
+
+
+def test_a_leap_fills_the_rows_it_advances_over_and_abandon_sees_them():
+    ops = ScriptedOps(lambda time, step, name: False)
+    blocks, asked = [], []
+
+    def leap(steps_done):
+        asked.append(steps_done)
+        if steps_done != 3:
+            return None
+        ops.time += 5 * 0.1  # the caller advances the model itself
+        return np.array([[ops.time - 0.1 * (4 - i)] for i in range(5)])
+
+    def abandon(rows):
+        blocks.append(rows[:, 0].copy())
+        return False
+
+    out = integrate(ops, 12, 0.1, lambda: [ops.time], abandon=abandon, leap=leap, check_every=3)
+    np.testing.assert_allclose(out[:, 0], 0.1 * np.arange(13))
+    assert len(ops.attempts) == 12 - 5  # the leap's steps were not analysed
+    assert asked == [3, 9]  # at every multiple of 3 steps done, not at the last step
+    np.testing.assert_allclose(np.concatenate(blocks), 0.1 * np.arange(1, 13))

@@ -20,7 +20,9 @@ from .sac9_elastic import (
     FloorState,
     elastic_frame,
     elastic_response,
-    first_yield_step,
+    fibre_centres,
+    first_step_beyond,
+    newmark_floors,
     set_state,
 )
 from .sac9_model import FrameConfig, build_frame
@@ -50,11 +52,12 @@ class SolverConfig:
         tolerance: its tolerance.
         max_iterations: iterations per step before the retry ladder takes over.
         algorithm: solution algorithm and its options (``ops.algorithm`` arguments).
-        elastic_start: take the response of the fibre model up to the first step at which
-            a fibre reaches :data:`ELASTIC_SHARE` of its yield stress from the exact
-            condensed linear model (:mod:`~cphysfno_opensees.sac9_elastic`) and start
-            OpenSees from its state there; a record that never gets that far needs no
-            OpenSees analysis.
+        elastic_phases: fibre model: take the phases in which every fibre stays within
+            :data:`ELASTIC_SHARE` of its elastic range from the exact condensed linear
+            model (:mod:`~cphysfno_opensees.sac9_elastic`) and run OpenSees only between
+            them: from rest to the first step at which a fibre nears yield (a record that
+            never gets there needs no OpenSees analysis), and, every :data:`CHECK_EVERY` steps of
+            OpenSees, across whatever elastic phase lies ahead.
     """
 
     system: Literal["ProfileSPD", "BandSPD", "BandGeneral", "UmfPack"] = "ProfileSPD"
@@ -63,7 +66,7 @@ class SolverConfig:
     tolerance: float = 100.0
     max_iterations: int = 50
     algorithm: tuple[str, ...] = ("ModifiedNewton", "-FactorOnce")
-    elastic_start: bool = True
+    elastic_phases: bool = True
 
 
 @dataclass(frozen=True)
@@ -81,10 +84,25 @@ class Rayleigh:
         return cls(2.0 * ratio * omega_a * omega_b / total, 2.0 * ratio / total)
 
 
-ELASTIC_SHARE = 0.95
-"""Share of the yield stress up to which a fibre's stress is taken from the condensed linear
-model when :attr:`SolverConfig.elastic_start` is on (its stresses agree with the OpenSees
-model's to about 1e-5, the second-order P-Delta effect of the columns' axial forces)."""
+ELASTIC_SHARE = 0.99
+"""Share of its elastic range up to which a fibre's stress is taken from the condensed
+linear model when :attr:`SolverConfig.elastic_phases` is on (its stresses agree with the
+OpenSees model's to about 1e-3 of the largest: the second-order P-Delta moments of the
+columns' axial forces)."""
+
+SHORTEST_LEAP = 50
+"""Fewest steps of an elastic phase worth taking from the condensed model after a yield."""
+
+CHECK_EVERY = 25
+"""Steps of OpenSees between the drift-limit checks and between attempts to take an elastic
+phase from the condensed model."""
+
+LEAP_WINDOW = 256
+"""Steps of an elastic phase computed at a time."""
+
+SETTLING_STEPS = 10
+"""Steps before the end of an elastic phase at which OpenSees takes over again, so that the
+massless rotations, set from the condensed model, settle before any fibre nears yield."""
 
 INTERIOR_DRIFT_LIMIT = 0.015
 """Largest peak story drift ratio up to which elastic interior sections are trusted: a
@@ -105,12 +123,13 @@ def analyse_record(
     The ground acceleration is linear between samples and the equations are integrated
     with Newmark's average acceleration rule at ``dt``, one step per sample, through
     :func:`cphysfno_opensees.transient.integrate` (which retries a step that does not
-    converge). With ``solver.elastic_start`` (fibre model), the steps before the first
+    converge). With ``solver.elastic_phases`` (fibre model), the steps before the first
     fibre reaches :data:`ELASTIC_SHARE` of its yield stress come from the exact condensed
-    linear model and OpenSees starts from its state there (:func:`elastic_start`). A model
+    linear model and OpenSees starts from its state there (:func:`elastic_start`), and the
+    later elastic phases are taken from it too (:class:`ElasticLeaps`). A model
     with elastic interior sections whose peak story drift ratio passes
     :data:`INTERIOR_DRIFT_LIMIT` is analysed again with fibres everywhere; its first
-    analysis stops within 100 steps of the drift passing the limit.
+    analysis stops within :data:`CHECK_EVERY` steps of the drift passing the limit.
 
     Args:
         frame_config: the model.
@@ -126,7 +145,7 @@ def analyse_record(
         AnalysisFailed: a step that nothing could complete.
     """
     start = None
-    if solver.elastic_start and frame_config.model == "fibre":
+    if solver.elastic_phases and frame_config.model == "fibre":
         start = elastic_start(frame_config, damping, acceleration, dt)
         if start.step == len(acceleration) - 1:
             return start.displacement
@@ -182,7 +201,7 @@ def elastic_start(
     """
     model = elastic_frame(frame_config, damping.mass, damping.stiffness)
     u, v, a = elastic_response(model, np.asarray(acceleration, dtype=float), dt)
-    first = first_yield_step(model, u, ELASTIC_SHARE)
+    first = first_step_beyond(model, u, ELASTIC_SHARE)
     step = len(u) - 1 if first is None else max(first - 1, 0)
     state = FloorState(u[step], v[step], a[step])
     return ElasticStart(step, u[: step + 1], state, model)
@@ -209,9 +228,9 @@ def transient_response(
     :func:`analyse_record` describes it.
 
     Args:
-        drift_limit: with a story drift ratio above it in any block of 100 steps, the
-            analysis stops with :class:`~cphysfno_opensees.transient.Abandoned`; None: run
-            to the end.
+        drift_limit: with a story drift ratio above it in any block of :data:`CHECK_EVERY`
+            steps, the analysis stops with
+            :class:`~cphysfno_opensees.transient.Abandoned`; None: run to the end.
         start: the linear model's response up to a step and its state there, from which
             the analysis continues; None: from rest at the first step.
 
@@ -219,6 +238,9 @@ def transient_response(
         ``[T, 9]`` floor displacements (m) and the ``[9]`` floor elevations above the
         ground (m).
     """
+    leaps = solver.elastic_phases and frame_config.model == "fibre"
+    # Before the model is built: the condensed model is made from analyses of its own.
+    model = elastic_frame(frame_config, damping.mass, damping.stiffness) if leaps else None
     ops = import_opensees()
     frame = build_frame(ops, frame_config)
     ops.rayleigh(damping.mass, 0.0, damping.stiffness, 0.0)
@@ -230,10 +252,11 @@ def transient_response(
         first = start.step
         ops.setTime(first * dt)
         set_state(ops, start.model, start.state)
-    configure_solver(ops, solver)
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
+    start_analysis(ops, solver)
     floors = frame.floors
+    leap = None
+    if model is not None:
+        leap = ElasticLeaps(ops, model, solver, acceleration, dt, first, floors)
 
     def read() -> list[float]:
         return [ops.nodeDisp(node, 1) for node in floors]
@@ -253,6 +276,8 @@ def transient_response(
             read,
             algorithm=solver.algorithm,
             abandon=None if drift_limit is None else past_limit,
+            leap=leap,
+            check_every=CHECK_EVERY,
         )
     finally:
         if collecting:
@@ -261,6 +286,103 @@ def transient_response(
     if start is not None:
         u = np.concatenate([start.displacement, u[1:]])
     return u, frame.heights
+
+
+class ElasticLeaps:
+    """Carries an OpenSees analysis of the fibre frame across the elastic phases after a
+    yield with the condensed linear model (the ``leap`` of
+    :func:`~cphysfno_opensees.transient.integrate`).
+
+    While every fibre stays elastic, the floors obey the condensed model exactly, offset by
+    the restoring force at the last OpenSees step: ``M u'' + C u' + K (u - u_k) = P(t) -
+    P_k + M u''_k + C u'_k`` (the massless DOFs' equilibrium, damping included, keeps the
+    offset constant). From the fibres' elastic centres now (:func:`fibre_centres`), the
+    model finds the step at which a fibre would leave :data:`ELASTIC_SHARE` of its elastic
+    range; if that is at least :data:`SHORTEST_LEAP` steps ahead, every node is set to the
+    state :data:`SETTLING_STEPS` before it (floors exact, the massless DOFs from the
+    condensed model, which OpenSees corrects at its next step) and the analysis continues
+    from there.
+
+    Args:
+        ops: the OpenSees module, with the analysis running.
+        model: the condensed model of the analysed frame.
+        solver: the solver settings, to start the analysis again after a leap.
+        acceleration: ``[T]`` the whole record, m/s^2.
+        dt: time step, s.
+        first: the step of the record at which the analysis started.
+        floors: the floors' node tags.
+    """
+
+    def __init__(
+        self,
+        ops: Any,
+        model: ElasticFrame,
+        solver: SolverConfig,
+        acceleration: np.ndarray,
+        dt: float,
+        first: int,
+        floors: list[int],
+    ) -> None:
+        self.ops, self.model, self.solver = ops, model, solver
+        self.acceleration = np.asarray(acceleration, dtype=float)
+        self.dt, self.first, self.floors = dt, first, floors
+
+    def __call__(self, steps_done: int) -> np.ndarray | None:
+        ops, model = self.ops, self.model
+        step = self.first + steps_done
+        if len(self.acceleration) - 1 - step < SHORTEST_LEAP + SETTLING_STEPS:
+            return None
+        centres = fibre_centres(ops, model)
+        if np.any(np.abs(centres) >= ELASTIC_SHARE * model.yield_stress):
+            return None
+        u = np.array([ops.nodeDisp(node, 1) for node in self.floors])
+        v = np.array([ops.nodeVel(node, 1) for node in self.floors])
+        a = np.array([ops.nodeAccel(node, 1) for node in self.floors])
+        du, dv, da = self._elastic_phase(step, FloorState(0.0 * u, v, a), centres)
+        last = len(du) - 1
+        if last < SHORTEST_LEAP:
+            return None
+        base = {node: np.asarray(ops.nodeDisp(node)) for node in model.node_map}
+        set_state(ops, model, FloorState(du[last], dv[last], da[last]), base=base)
+        ops.setTime((step + last) * self.dt)
+        ops.wipeAnalysis()
+        start_analysis(ops, self.solver)
+        return u + du[1 : last + 1]
+
+    def _elastic_phase(
+        self, step: int, state: FloorState, centres: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The floors' displacement increments, velocities and accelerations from ``step``
+        (row 0) to :data:`SETTLING_STEPS` before a fibre leaves :data:`ELASTIC_SHARE` of
+        its elastic range, or to the end of the record; computed a window at a time."""
+        model, record = self.model, self.acceleration
+        offset = model.masses * state.acceleration + model.damping @ state.velocity
+        columns: tuple[list[np.ndarray], ...] = ([], [], [])
+        done = step
+        while True:
+            ground = record[done : done + LEAP_WINDOW + 1] - record[step]
+            window = newmark_floors(model, offset - np.outer(ground, model.masses), self.dt, state)
+            beyond = first_step_beyond(model, window[0], ELASTIC_SHARE, centres)
+            keep = len(window[0]) if beyond is None else beyond
+            for column, part in zip(columns, window, strict=True):
+                column.append(part[(0 if done == step else 1) : keep])
+            done += len(window[0]) - 1
+            if beyond is not None or done >= len(record) - 1:
+                break
+            state = FloorState(*(part[-1] for part in window))
+        du, dv, da = (np.concatenate(column) for column in columns)
+        if beyond is not None:
+            keep = max(len(du) - SETTLING_STEPS, 1)
+            du, dv, da = du[:keep], dv[:keep], da[:keep]
+        return du, dv, da
+
+
+def start_analysis(ops: Any, solver: SolverConfig) -> None:
+    """The transient analysis of the defined model: :func:`configure_solver`, Newmark's
+    average acceleration rule."""
+    configure_solver(ops, solver)
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
 
 
 def configure_solver(ops: Any, solver: SolverConfig) -> None:

@@ -1,19 +1,19 @@
-"""The SAC frame while none of its steel has yielded: an exact linear model of nine DOFs.
+"""The SAC frame while none of its steel yields: an exact linear model of nine DOFs.
 
-Until the first fibre of the fibre model reaches its yield stress, the OpenSees model is
-linear (bilinear steel on its elastic branch, elastic interior sections, the leaning
-column's linear springs; only the P-Delta effect of the columns' own axial forces, which
-are zero at rest, is of second order). Its rotations and vertical displacements carry no
-mass and its damping is Rayleigh on the mass and the initial stiffness, so every DOF is a
-fixed linear function of the nine floor displacements at every Newmark step from rest:
-the whole model condenses exactly to the floors. :func:`elastic_frame` builds that
-condensed model from nine static analyses of the OpenSees model under a unit load at each
-floor; :func:`elastic_response` integrates it with the same Newmark rule as the OpenSees
-analysis, in milliseconds instead of seconds; :func:`first_yield_step` finds the first
-step at which a fibre would reach a given share of its yield stress. The analysis of a
-record (:func:`cphysfno_opensees.sac9_analysis.analyse_record`) takes the response up to
-there from this model and starts OpenSees from its state, or needs no OpenSees at all for
-a record that never yields.
+While every fibre of the fibre model stays on the elastic branch of its bilinear steel, the
+OpenSees model is linear (elastic interior sections, the leaning column's linear springs;
+only the P-Delta effect of the columns' own axial forces, zero at rest, is of second
+order). Its rotations and vertical displacements carry no mass and its damping is Rayleigh
+on the mass and the initial stiffness, so the floors obey a nine-DOF model exactly: from
+rest, every DOF is a fixed linear function of the floor displacements at every Newmark
+step; after a yield, the floors obey the same model offset by the restoring force at the
+step the phase began. :func:`elastic_frame` builds that model from nine static analyses of
+the OpenSees model under a unit load at each floor; :func:`newmark_floors` integrates it
+with the same Newmark rule as the OpenSees analysis, in milliseconds instead of seconds;
+:func:`first_step_beyond` finds the first step at which a fibre leaves a given share of its
+elastic range (:func:`fibre_centres`); :func:`set_state` hands the state back to OpenSees.
+:func:`cphysfno_opensees.sac9_analysis.analyse_record` runs OpenSees only between such
+phases, and not at all for a record that never yields.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import numpy as np
 
 from .loader import import_opensees
 from .sac9_model import FrameConfig, build_frame
-from .sac9_sections import N_STORIES
+from .sac9_sections import HARDENING_RATIO, N_STORIES, STEEL_MODULUS
 
 UNIT_LOAD = 1.0e5
 """Floor load of the static analyses, N (the model is linear; the size only keeps the
@@ -44,18 +44,24 @@ class ElasticFrame:
         damping: ``[9, 9]`` Rayleigh damping condensed to the floors, N s/m.
         node_map: every node's ``[3, 9]`` displacements (m, rad) per metre of each floor
             displacement, keyed by node tag.
-        stress_map: ``[n, 9]`` stress (Pa per metre of floor displacement) of the
-            outermost fibres of the sections at both ends of every member, where the
-            moment, linear along a member without loads between its ends, is largest.
+        sections: ``(element, integration point)`` of every fibre section, in the order
+            of the fibres below.
+        stress_map: ``[n, 9]`` elastic stress (Pa per metre of floor displacement) of every
+            fibre of those sections.
         yield_stress: ``[n]`` the yield stress of those fibres, Pa.
+        outermost: ``[n]`` whether a fibre is an outermost one of a section at a member's
+            end, where the stress from rest is largest (the moment is linear along a
+            member without loads between its ends).
     """
 
     masses: np.ndarray
     stiffness: np.ndarray
     damping: np.ndarray
     node_map: dict[int, np.ndarray]
+    sections: tuple[tuple[int, int], ...]
     stress_map: np.ndarray
     yield_stress: np.ndarray
+    outermost: np.ndarray
 
 
 @functools.lru_cache(maxsize=4)
@@ -74,7 +80,7 @@ def elastic_frame(
     """
     if config.model != "fibre":
         raise ValueError(f"the condensed elastic model needs the fibre model, not {config.model!r}")
-    flexibility, nodes, stresses, limits, masses = _unit_load_responses(config)
+    flexibility, nodes, fibres, masses = _unit_load_responses(config)
     stiffness = _symmetric_inverse(flexibility)
     damped = stiffness
     if config.p_delta:
@@ -86,8 +92,10 @@ def elastic_frame(
         stiffness=stiffness,
         damping=mass_damping * np.diag(masses) + stiffness_damping * damped,
         node_map={node: unit @ stiffness for node, unit in nodes.items()},
-        stress_map=stresses @ stiffness,
-        yield_stress=limits,
+        sections=fibres.sections,
+        stress_map=fibres.stress @ stiffness,
+        yield_stress=fibres.yield_stress,
+        outermost=fibres.outermost,
     )
 
 
@@ -98,11 +106,10 @@ def _symmetric_inverse(flexibility: np.ndarray) -> np.ndarray:
 
 def _unit_load_responses(
     config: FrameConfig,
-) -> tuple[np.ndarray, dict[int, np.ndarray], np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, dict[int, np.ndarray], _Fibres, np.ndarray]:
     """Responses of the model to a unit horizontal load at each floor in turn: the
-    ``[9, 9]`` floor flexibility (m/N), every node's ``[3, 9]`` displacements, the
-    ``[n, 9]`` stresses of the end sections' outermost fibres (Pa/N), their ``[n]`` yield
-    stresses (Pa), and the ``[9]`` floor masses (kg)."""
+    ``[9, 9]`` floor flexibility (m/N), every node's ``[3, 9]`` displacements, the fibres'
+    ``[n, 9]`` stresses (Pa/N), and the ``[9]`` floor masses (kg)."""
     ops = import_opensees()
     n_floors = N_STORIES
     flexibility = np.zeros((n_floors, n_floors))
@@ -116,11 +123,12 @@ def _unit_load_responses(
             for node in ops.getNodeTags():
                 unit = np.asarray(ops.nodeDisp(node)) / UNIT_LOAD
                 nodes.setdefault(node, np.zeros((3, n_floors)))[:, j] = unit
-            stress, limits = _end_fibre_stresses(ops, frame.yield_stresses)
-            stresses.append(stress / UNIT_LOAD)
+            fibres = _fibres(ops, frame.yield_stresses)
+            stresses.append(fibres.stress / UNIT_LOAD)
     finally:
         ops.wipe()
-    return flexibility, nodes, np.stack(stresses, axis=1), limits, frame.masses.copy()
+    fibres = dataclasses.replace(fibres, stress=np.stack(stresses, axis=1))
+    return flexibility, nodes, fibres, frame.masses.copy()
 
 
 def _unit_load_analysis(ops: Any, floor: int) -> None:
@@ -138,21 +146,31 @@ def _unit_load_analysis(ops: Any, floor: int) -> None:
         raise RuntimeError(f"the static analysis under a load at node {floor} failed")
 
 
-def _end_fibre_stresses(
-    ops: Any, yield_stresses: dict[int, float]
-) -> tuple[np.ndarray, np.ndarray]:
-    """Stresses of the outermost fibres at both ends of every member, and their yield
-    stresses, in element-tag order."""
-    stress, limit = [], []
+@dataclass(frozen=True)
+class _Fibres:
+    sections: tuple[tuple[int, int], ...]
+    stress: np.ndarray
+    yield_stress: np.ndarray
+    outermost: np.ndarray
+
+
+def _fibres(ops: Any, yield_stresses: dict[int, float]) -> _Fibres:
+    """The fibres of every fibre section (elements in tag order, points in order): their
+    stresses now, yield stresses, and which are the outermost ones at a member's end."""
+    sections, stress, limit, outermost = [], [], [], []
     for element, fy in sorted(yield_stresses.items()):
         n_points = len(ops.eleResponse(element, "integrationPoints"))
-        for point in (1, n_points):
-            data = np.asarray(ops.eleResponse(element, "section", point, "fiberData"))
-            fibres = data.reshape(-1, 5)
-            outermost = np.abs(fibres[:, 0]) >= np.abs(fibres[:, 0]).max() * (1 - 1e-12)
-            stress.extend(fibres[outermost, 3])
-            limit.extend([fy] * int(outermost.sum()))
-    return np.asarray(stress), np.asarray(limit)
+        for point in range(1, n_points + 1):
+            fibres = np.reshape(ops.eleResponse(element, "section", point, "fiberData"), (-1, 5))
+            if not fibres.size:
+                continue
+            sections.append((element, point))
+            stress.extend(fibres[:, 3])
+            limit.extend([fy] * len(fibres))
+            depth = np.abs(fibres[:, 0])
+            end = point in (1, n_points)
+            outermost.extend(end & (depth >= depth.max() * (1 - 1e-12)))
+    return _Fibres(tuple(sections), np.asarray(stress), np.asarray(limit), np.asarray(outermost))
 
 
 @dataclass(frozen=True)
@@ -168,68 +186,145 @@ class FloorState:
 def elastic_response(
     frame: ElasticFrame, acceleration: np.ndarray, dt: float
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Floor response of the condensed model from rest, by Newmark's average acceleration
-    rule at ``dt``, one step per sample, as the OpenSees analysis integrates it (it, too,
+    """Floor response of the condensed model from rest under ``acceleration [T]`` (m/s^2)
+    at ``dt`` (s), one step per sample, as the OpenSees analysis integrates it (it, too,
     starts with zero relative acceleration whatever the first sample).
-
-    Args:
-        frame: the condensed model.
-        acceleration: ``[T]`` ground acceleration, m/s^2.
-        dt: time step, s.
 
     Returns:
         ``[T, 9]`` displacements (m), velocities (m/s) and accelerations (m/s^2).
     """
+    loads = -np.outer(np.asarray(acceleration, dtype=float), frame.masses)
+    rest = np.zeros(frame.masses.size)
+    return newmark_floors(frame, loads, dt, FloorState(rest, rest, rest))
+
+
+def newmark_floors(
+    frame: ElasticFrame, loads: np.ndarray, dt: float, initial: FloorState
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``M u'' + C u' + K u = P`` by Newmark's average acceleration rule.
+
+    Args:
+        frame: the condensed model (M, C, K).
+        loads: ``[T, 9]`` floor loads P at every step, N (row 0 is not used).
+        dt: time step, s.
+        initial: the state at row 0.
+
+    Returns:
+        ``[T, 9]`` displacements (m), velocities (m/s) and accelerations (m/s^2); row 0 is
+        ``initial``.
+    """
     n = frame.masses.size
     mass = np.diag(frame.masses)
-    effective = frame.stiffness + 2.0 / dt * frame.damping + 4.0 / dt**2 * mass
-    solve = np.linalg.inv(effective)
-    # s_{k+1} = A s_k + b a_g[k+1] for the state s = (u, v, a).
-    history = np.hstack(
+    solve = np.linalg.inv(frame.stiffness + 2.0 / dt * frame.damping + 4.0 / dt**2 * mass)
+    # State s = (u, v, a): s_{k+1} = A s_k + B P_{k+1}.
+    zero, eye = np.zeros((n, n)), np.eye(n)
+    new_u = solve @ np.hstack(
         [4.0 / dt**2 * mass + 2.0 / dt * frame.damping, 4.0 / dt * mass + frame.damping, mass]
     )
-    new_u = solve @ history
-    eye = np.eye(n)
-    shift = np.hstack([eye, np.zeros((n, 2 * n))])
-    new_v = 2.0 / dt * (new_u - shift) - np.hstack([np.zeros((n, n)), eye, np.zeros((n, n))])
-    new_a = (
-        4.0 / dt**2 * (new_u - shift)
-        - 4.0 / dt * np.hstack([np.zeros((n, n)), eye, np.zeros((n, n))])
-        - np.hstack([np.zeros((n, 2 * n)), eye])
+    u_part, v_part, a_part = (
+        np.hstack([eye, zero, zero]),
+        np.hstack([zero, eye, zero]),
+        np.hstack([zero, zero, eye]),
     )
-    transition = np.vstack([new_u, new_v, new_a])
-    load_u = -solve @ frame.masses
-    load = np.concatenate([load_u, 2.0 / dt * load_u, 4.0 / dt**2 * load_u])
-    states = np.zeros((acceleration.size, 3 * n))
-    state = np.zeros(3 * n)
+    transition = np.vstack(
+        [
+            new_u,
+            2.0 / dt * (new_u - u_part) - v_part,
+            4.0 / dt**2 * (new_u - u_part) - 4.0 / dt * v_part - a_part,
+        ]
+    )
+    forced = (
+        np.asarray(loads, dtype=float) @ np.vstack([solve, 2.0 / dt * solve, 4.0 / dt**2 * solve]).T
+    )
+    states = np.empty((len(forced), 3 * n))
+    state = np.concatenate([initial.displacement, initial.velocity, initial.acceleration])
+    states[0] = state
     transition_t = transition.T.copy()
-    for k in range(1, acceleration.size):
-        state = state @ transition_t + acceleration[k] * load
+    for k in range(1, len(forced)):
+        state = state @ transition_t + forced[k]
         states[k] = state
     return states[:, :n], states[:, n : 2 * n], states[:, 2 * n :]
 
 
-def first_yield_step(frame: ElasticFrame, displacement: np.ndarray, share: float) -> int | None:
-    """First step at which a fibre's elastic stress reaches ``share`` of its yield stress
-    under floor displacements ``displacement [T, 9]`` (m); None if none does."""
-    ratio = np.abs(displacement @ frame.stress_map.T) / frame.yield_stress
-    reached = np.flatnonzero(ratio.max(axis=1) >= share)
+def first_step_beyond(
+    frame: ElasticFrame,
+    displacement: np.ndarray,
+    share: float,
+    centres: np.ndarray | None = None,
+) -> int | None:
+    """First row of ``displacement`` at which a fibre leaves ``share`` of its elastic range.
+
+    Args:
+        frame: the condensed model.
+        displacement: ``[T, 9]`` floor displacements (m) from the state ``centres``
+            describe.
+        share: share of the yield stress.
+        centres: ``[n]`` the fibres' elastic centres (:func:`fibre_centres`), Pa: a fibre
+            stays elastic while ``|centre + stress increment|`` is below its yield stress;
+            None: from rest, where the outermost fibres at the members' ends decide.
+
+    Returns:
+        The row, or None if every fibre stays within ``share`` of its range throughout.
+    """
+    rows = frame.outermost if centres is None else slice(None)
+    stress_map = frame.stress_map[rows]
+    margin = share * frame.yield_stress[rows] - (0.0 if centres is None else np.abs(centres))
+    # Only fibres whose margin the largest floor displacements could use up are checked.
+    bound = np.abs(stress_map) @ np.abs(displacement).max(axis=0)
+    candidates = np.flatnonzero(bound >= margin)
+    if not candidates.size:
+        return None
+    centre = 0.0 if centres is None else centres[candidates]
+    stress = centre + displacement @ stress_map[candidates].T
+    reached = np.flatnonzero(
+        (np.abs(stress) >= share * frame.yield_stress[rows][candidates]).any(axis=1)
+    )
     return int(reached[0]) if reached.size else None
 
 
-def set_state(ops: Any, frame: ElasticFrame, state: FloorState) -> None:
+def fibre_centres(ops: Any, frame: ElasticFrame) -> np.ndarray:
+    """``[n]`` elastic centres (:func:`elastic_centre`) of the fibres of the OpenSees model
+    now, Pa."""
+    data = np.concatenate(
+        [
+            np.reshape(ops.eleResponse(element, "section", point, "fiberData"), (-1, 5))
+            for element, point in frame.sections
+        ]
+    )
+    return elastic_centre(data[:, 3], data[:, 4])
+
+
+def elastic_centre(stress: np.ndarray, strain: np.ndarray) -> np.ndarray:
+    """Where the elastic range of the frame's steel (``Steel01``, kinematic hardening) is
+    centred, in stress (Pa), for fibres at ``stress`` (Pa) and ``strain``.
+
+    ``Steel01`` stays elastic while ``|sigma - b E epsilon| < (1 - b) F_y``; while it does,
+    the stress changes by ``E`` times the strain increment, so a fibre stays elastic while
+    ``|centre + E * strain increment| < F_y`` with ``centre = (sigma - b E epsilon) / (1 - b)``.
+    """
+    b = HARDENING_RATIO
+    return (np.asarray(stress) - b * STEEL_MODULUS * np.asarray(strain)) / (1.0 - b)
+
+
+def set_state(
+    ops: Any,
+    frame: ElasticFrame,
+    state: FloorState,
+    base: dict[int, np.ndarray] | None = None,
+) -> None:
     """Set every node of the (built) OpenSees model to the displacements, velocities and
-    accelerations the condensed model gives for ``state``, committed."""
+    accelerations the condensed model gives for the floors' ``state``, committed.
+
+    Args:
+        base: every node's ``[3]`` displacements from which ``state.displacement`` is
+            measured; None: from rest.
+    """
     for node, unit in frame.node_map.items():
-        for dof, (u, v, a) in enumerate(
-            zip(
-                unit @ state.displacement,
-                unit @ state.velocity,
-                unit @ state.acceleration,
-                strict=True,
-            ),
-            start=1,
-        ):
-            ops.setNodeDisp(node, dof, float(u), "-commit")
-            ops.setNodeVel(node, dof, float(v), "-commit")
-            ops.setNodeAccel(node, dof, float(a), "-commit")
+        displacement = unit @ state.displacement
+        if base is not None:
+            displacement = displacement + base[node]
+        velocity, acceleration = unit @ state.velocity, unit @ state.acceleration
+        for dof in range(3):
+            ops.setNodeDisp(node, dof + 1, float(displacement[dof]), "-commit")
+            ops.setNodeVel(node, dof + 1, float(velocity[dof]), "-commit")
+            ops.setNodeAccel(node, dof + 1, float(acceleration[dof]), "-commit")

@@ -61,11 +61,11 @@ class Sac9FrameParams(OpenSeesParams):
         le=1e4,
         description="largest norm of the unbalanced nodal forces of a converged step, N",
     )
-    elastic_start: bool = Field(
+    elastic_phases: bool = Field(
         True,
-        description="fibre model: take the response up to the first step at which a fibre "
-        "nears its yield stress from the exact condensed linear model and start OpenSees "
-        "there (no OpenSees analysis for a record that never yields)",
+        description="fibre model: take the phases in which every fibre stays elastic from "
+        "the exact condensed linear model and run OpenSees only between them (no OpenSees "
+        "analysis for a record that never yields)",
     )
     pushover_drift: float = Field(
         0.03, gt=0.0, le=0.1, description="roof drift ratio the pushover reaches"
@@ -118,7 +118,7 @@ class Sac9Frame(OpenSeesStructure):
     def solver_config(self) -> SolverConfig:
         """How each step is solved."""
         return SolverConfig(
-            tolerance=self.params.tolerance, elastic_start=self.params.elastic_start
+            tolerance=self.params.tolerance, elastic_phases=self.params.elastic_phases
         )
 
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:

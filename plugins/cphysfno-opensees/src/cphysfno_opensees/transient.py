@@ -64,6 +64,7 @@ def integrate(
     algorithm: Sequence[Any] = ("Newton",),
     abandon: Callable[[np.ndarray], bool] | None = None,
     check_every: int = 100,
+    leap: Callable[[int], np.ndarray | None] | None = None,
 ) -> np.ndarray:
     """Run an already-defined transient analysis for ``n_steps`` steps of ``dt`` s.
 
@@ -86,7 +87,11 @@ def integrate(
             read since its last call; True stops the analysis with :class:`Abandoned`
             (for a caller that will not use the rest, e.g. a model that has left the range
             it is trusted in).
-        check_every: steps between calls of ``abandon``.
+        check_every: steps between calls of ``abandon`` and of ``leap``.
+        leap: called every ``check_every`` steps with the number ``k`` of steps done; it
+            may advance the model itself by ``m`` steps (e.g. through a phase it can
+            compute more cheaply) and return the ``[m, n_out]`` rows of those steps, or
+            return None to go on step by step.
 
     Returns:
         ``[n_steps + 1, n_out]``: row 0 is ``read()`` before the first step, row ``k``
@@ -101,13 +106,23 @@ def integrate(
     first = np.asarray(read(), dtype=np.float64)
     out = np.empty((n_steps + 1, first.size))
     out[0] = first
-    for k in range(1, n_steps + 1):
+    k = checked = 0
+    while k < n_steps:
+        k += 1
         if ops.analyze(1, dt) != 0:
             _recover(ops, dt, algorithm)
         out[k] = read()
-        if abandon is not None and k % check_every == 0:
-            if abandon(out[k - check_every + 1 : k + 1]):
+        if k % check_every:
+            continue
+        if abandon is not None:
+            if abandon(out[checked + 1 : k + 1]):
                 raise Abandoned(ops.getTime())
+            checked = k
+        if leap is not None and k < n_steps:
+            rows = leap(k)
+            if rows is not None:
+                out[k + 1 : k + 1 + len(rows)] = rows
+                k += len(rows)
     return out
 
 
