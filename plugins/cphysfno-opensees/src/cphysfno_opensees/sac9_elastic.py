@@ -26,8 +26,8 @@ from typing import Any
 import numpy as np
 
 from .loader import import_opensees
-from .sac9_model import FrameConfig, build_frame
-from .sac9_sections import HARDENING_RATIO, N_STORIES, STEEL_MODULUS
+from .sac9_model import Frame, FrameConfig, build_frame, fibre_layout
+from .sac9_sections import HARDENING_RATIO, N_STORIES, STEEL_MODULUS, WideFlange
 
 UNIT_LOAD = 1.0e5
 """Floor load of the static analyses, N (the model is linear; the size only keeps the
@@ -46,8 +46,11 @@ class ElasticFrame:
             displacement, keyed by node tag.
         sections: ``(element, integration point)`` of every fibre section, in the order
             of the fibres below.
+        interior: the elastic interior sections (:class:`InteriorSections`), whose
+            outermost fibres follow those of the fibre sections below.
         stress_map: ``[n, 9]`` elastic stress (Pa per metre of floor displacement) of every
-            fibre of those sections.
+            fibre of the fibre sections, then of the two outermost fibres of every elastic
+            interior section (where a fibre section would first yield).
         yield_stress: ``[n]`` the yield stress of those fibres, Pa.
         outermost: ``[n]`` whether a fibre is an outermost one of a section at a member's
             end, where the stress from rest is largest (the moment is linear along a
@@ -59,9 +62,72 @@ class ElasticFrame:
     damping: np.ndarray
     node_map: dict[int, np.ndarray]
     sections: tuple[tuple[int, int], ...]
+    interior: InteriorSections
     stress_map: np.ndarray
     yield_stress: np.ndarray
     outermost: np.ndarray
+
+
+@dataclass(frozen=True)
+class InteriorSections:
+    """The elastic sections inside the members of a model with an elastic interior.
+
+    Attributes:
+        sections: ``(element, integration point)`` of each.
+        area, inertia: ``[m]`` their area (m^2) and second moment (m^4).
+        depth: ``[m]`` the distance of the outermost fibre of the fibre section they stand
+            for from its centroid, m.
+        yield_stress: ``[m]`` the yield stress of their steel, Pa.
+    """
+
+    sections: tuple[tuple[int, int], ...]
+    area: np.ndarray
+    inertia: np.ndarray
+    depth: np.ndarray
+    yield_stress: np.ndarray
+
+    @classmethod
+    def of(cls, frame: Frame, config: FrameConfig) -> InteriorSections:
+        """The interior sections of the model ``frame`` (built from ``config``); none
+        unless the fibre model has an elastic interior."""
+        members = sorted(frame.members.items())
+        if config.model != "fibre" or not config.elastic_interior:
+            members = []
+        interior = range(2, config.integration_points)
+        sections = [(element, point) for element, _ in members for point in interior]
+        per_member = [
+            (m.shape.area, m.shape.inertia, _outermost(m.shape, config), m.yield_stress)
+            for _, m in members
+        ]
+        columns = np.repeat(np.asarray(per_member, dtype=float).reshape(-1, 4), len(interior), 0)
+        return cls(tuple(sections), *columns.T)
+
+    def stresses(self, ops: Any) -> np.ndarray:
+        """``[2 m]`` the stresses now of the two outermost fibres of each section (of the
+        fibre section it stands for), Pa."""
+        forces = np.array(
+            [
+                ops.eleResponse(element, "section", point, "force")
+                for element, point in self.sections
+            ]
+        ).reshape(-1, 2)
+        return self.fibre_stresses(forces)
+
+    def fibre_stresses(self, forces: np.ndarray) -> np.ndarray:
+        """``[2 m]`` outermost-fibre stresses (Pa) of axial forces and moments ``[m, 2]``
+        (N, N m): ``N / A -+ M y / I`` for each section."""
+        axial = forces[:, 0] / self.area
+        bending = forces[:, 1] * self.depth / self.inertia
+        return np.stack([axial - bending, axial + bending], axis=1).ravel()
+
+    def past_yield(self, ops: Any, share: float) -> bool:
+        """Whether an outermost fibre's stress is at ``share`` of its yield stress now."""
+        return bool(np.any(np.abs(self.stresses(ops)) >= share * np.repeat(self.yield_stress, 2)))
+
+
+@functools.lru_cache(maxsize=256)
+def _outermost(shape: WideFlange, config: FrameConfig) -> float:
+    return max(abs(y) for y, _ in fibre_layout(shape, config))
 
 
 @functools.lru_cache(maxsize=4)
@@ -93,6 +159,7 @@ def elastic_frame(
         damping=mass_damping * np.diag(masses) + stiffness_damping * damped,
         node_map={node: unit @ stiffness for node, unit in nodes.items()},
         sections=fibres.sections,
+        interior=fibres.interior,
         stress_map=fibres.stress @ stiffness,
         yield_stress=fibres.yield_stress,
         outermost=fibres.outermost,
@@ -123,7 +190,7 @@ def _unit_load_responses(
             for node in ops.getNodeTags():
                 unit = np.asarray(ops.nodeDisp(node)) / UNIT_LOAD
                 nodes.setdefault(node, np.zeros((3, n_floors)))[:, j] = unit
-            fibres = _fibres(ops, frame.yield_stresses)
+            fibres = _fibres(ops, frame, config)
             stresses.append(fibres.stress / UNIT_LOAD)
     finally:
         ops.wipe()
@@ -149,16 +216,19 @@ def _unit_load_analysis(ops: Any, floor: int) -> None:
 @dataclass(frozen=True)
 class _Fibres:
     sections: tuple[tuple[int, int], ...]
+    interior: InteriorSections
     stress: np.ndarray
     yield_stress: np.ndarray
     outermost: np.ndarray
 
 
-def _fibres(ops: Any, yield_stresses: dict[int, float]) -> _Fibres:
-    """The fibres of every fibre section (elements in tag order, points in order): their
-    stresses now, yield stresses, and which are the outermost ones at a member's end."""
+def _fibres(ops: Any, frame: Frame, config: FrameConfig) -> _Fibres:
+    """The fibres of every fibre section (elements in tag order, points in order), then
+    the outermost fibres of the elastic interior sections: their stresses now, yield
+    stresses, and which are the outermost ones at a member's end."""
     sections, stress, limit, outermost = [], [], [], []
-    for element, fy in sorted(yield_stresses.items()):
+    for element, member in sorted(frame.members.items()):
+        fy = member.yield_stress
         n_points = len(ops.eleResponse(element, "integrationPoints"))
         for point in range(1, n_points + 1):
             fibres = np.reshape(ops.eleResponse(element, "section", point, "fiberData"), (-1, 5))
@@ -170,7 +240,13 @@ def _fibres(ops: Any, yield_stresses: dict[int, float]) -> _Fibres:
             depth = np.abs(fibres[:, 0])
             end = point in (1, n_points)
             outermost.extend(end & (depth >= depth.max() * (1 - 1e-12)))
-    return _Fibres(tuple(sections), np.asarray(stress), np.asarray(limit), np.asarray(outermost))
+    interior = InteriorSections.of(frame, config)
+    stress.extend(interior.stresses(ops))
+    limit.extend(np.repeat(interior.yield_stress, 2))
+    outermost.extend([False] * 2 * len(interior.sections))
+    return _Fibres(
+        tuple(sections), interior, np.asarray(stress), np.asarray(limit), np.asarray(outermost)
+    )
 
 
 @dataclass(frozen=True)
@@ -268,30 +344,38 @@ def first_step_beyond(
     """
     rows = frame.outermost if centres is None else slice(None)
     stress_map = frame.stress_map[rows]
-    margin = share * frame.yield_stress[rows] - (0.0 if centres is None else np.abs(centres))
-    # Only fibres whose margin the largest floor displacements could use up are checked.
-    bound = np.abs(stress_map) @ np.abs(displacement).max(axis=0)
-    candidates = np.flatnonzero(bound >= margin)
-    if not candidates.size:
-        return None
-    centre = 0.0 if centres is None else centres[candidates]
-    stress = centre + displacement @ stress_map[candidates].T
-    reached = np.flatnonzero(
-        (np.abs(stress) >= share * frame.yield_stress[rows][candidates]).any(axis=1)
-    )
-    return int(reached[0]) if reached.size else None
+    limit = share * frame.yield_stress[rows]
+    margin = limit - (0.0 if centres is None else np.abs(centres))
+    magnitude = np.abs(stress_map)
+    for start in range(0, len(displacement), ROWS_PER_CHECK):
+        block = displacement[start : start + ROWS_PER_CHECK]
+        # Only fibres whose margin the block's largest floor displacements could use up.
+        candidates = np.flatnonzero(magnitude @ np.abs(block).max(axis=0) >= margin)
+        if not candidates.size:
+            continue
+        centre = 0.0 if centres is None else centres[candidates]
+        stress = centre + block @ stress_map[candidates].T
+        reached = np.flatnonzero((np.abs(stress) >= limit[candidates]).any(axis=1))
+        if reached.size:
+            return start + int(reached[0])
+    return None
+
+
+ROWS_PER_CHECK = 32
+"""Steps checked at a time by :func:`first_step_beyond`, which stops at the first block
+with a fibre out of range."""
 
 
 def fibre_centres(ops: Any, frame: ElasticFrame) -> np.ndarray:
     """``[n]`` elastic centres (:func:`elastic_centre`) of the fibres of the OpenSees model
-    now, Pa."""
+    now, Pa; for the outermost fibres of elastic interior sections, their stresses."""
     data = np.concatenate(
         [
             np.reshape(ops.eleResponse(element, "section", point, "fiberData"), (-1, 5))
             for element, point in frame.sections
         ]
     )
-    return elastic_centre(data[:, 3], data[:, 4])
+    return np.concatenate([elastic_centre(data[:, 3], data[:, 4]), frame.interior.stresses(ops)])
 
 
 def elastic_centre(stress: np.ndarray, strain: np.ndarray) -> np.ndarray:

@@ -98,13 +98,44 @@ class Frame:
             floor's (the masters of the rigid diaphragms).
         heights: ``[9]`` elevations of those levels above the ground, m.
         masses: ``[9]`` horizontal masses at those nodes, kg.
-        yield_stresses: yield stress (Pa) of the steel of every member, by element tag.
+        members: the shape and steel of every member, by element tag.
     """
 
     floors: list[int]
     heights: np.ndarray
     masses: np.ndarray
-    yield_stresses: dict[int, float]
+    members: dict[int, Member]
+
+
+@dataclass(frozen=True)
+class Member:
+    """A member's W shape and the yield stress of its steel, Pa."""
+
+    shape: WideFlange
+    yield_stress: float
+
+
+def fibre_layout(shape: WideFlange, config: FrameConfig) -> list[tuple[float, float]]:
+    """``(y, area)`` of every fibre of the shape's fibre section (m, m^2): fibres over the
+    depth of four rectangles (the flanges and the two halves of the web) at Gauss-Legendre
+    points, each carrying its share of the rectangle's area. The area, second moment and
+    plastic modulus of the shape are exact for any count of two or more fibres per
+    rectangle, so the fibre counts change only how yielding spreads through the depth."""
+    half_depth, half_web = shape.depth / 2.0, shape.web_height / 2.0
+    web_fibres = max(config.web_fibres // 2, 1)
+    rectangles = (
+        (half_web, half_depth, shape.flange_width, config.flange_fibres),
+        (0.0, half_web, shape.web_thickness, web_fibres),
+        (-half_web, 0.0, shape.web_thickness, web_fibres),
+        (-half_depth, -half_web, shape.flange_width, config.flange_fibres),
+    )
+    layout = []
+    for bottom, top, width, count in rectangles:
+        points, weights = np.polynomial.legendre.leggauss(count)
+        centre, half = (top + bottom) / 2.0, (top - bottom) / 2.0
+        for point, weight in zip(points, weights, strict=True):
+            layout.append((centre + half * point, width * half * weight))
+    return layout
 
 
 class _Tags:
@@ -154,7 +185,7 @@ def build_frame(ops: Any, config: FrameConfig) -> Frame:
     ops.geomTransf("PDelta" if config.p_delta else "Linear", column_transform)
     ops.geomTransf("Linear", beam_transform)
     builder = _MemberBuilder(ops, config, tags)
-    frame = Frame(floors, np.asarray(heights[FIRST_FLOOR:]), masses, builder.yield_stresses)
+    frame = Frame(floors, np.asarray(heights[FIRST_FLOOR:]), masses, builder.members)
     for story in range(len(heights) - 1):
         for column in range(N_COLUMNS):
             _column(ops, builder, grid, story, column, column_transform)
@@ -239,7 +270,7 @@ class _MemberBuilder:
     def __init__(self, ops: Any, config: FrameConfig, tags: _Tags) -> None:
         self.ops, self.config, self.tags = ops, config, tags
         self.integrations: dict[tuple[str, float], int] = {}
-        self.yield_stresses: dict[int, float] = {}
+        self.members: dict[int, Member] = {}
 
     def member(
         self, node_i: int, node_j: int, shape: WideFlange, yield_stress: float, transform: int
@@ -249,7 +280,7 @@ class _MemberBuilder:
             self.integrations[key] = self._integration(shape, yield_stress)
         iterations, tolerance = self.config.element_iterations
         element = self.tags.next("element")
-        self.yield_stresses[element] = yield_stress
+        self.members[element] = Member(shape, yield_stress)
         self.ops.element(
             "forceBeamColumn",
             element,
@@ -290,28 +321,12 @@ class _MemberBuilder:
         return material
 
     def _fibre_section(self, shape: WideFlange, yield_stress: float) -> int:
-        """Fibres over the depth of four rectangles (the flanges and the two halves of the
-        web) at Gauss-Legendre points, each carrying its share of the rectangle's area:
-        the area, second moment and plastic modulus of the shape are exact for any count
-        of two or more fibres per rectangle, so the fibre counts change only how yielding
-        spreads through the depth."""
-        ops, config = self.ops, self.config
+        """The fibres of :func:`fibre_layout`, of bilinear steel."""
         material = self._steel(yield_stress)
         section = self.tags.next("section")
-        half_depth, half_web = shape.depth / 2.0, shape.web_height / 2.0
-        web_fibres = max(config.web_fibres // 2, 1)
-        rectangles = (
-            (half_web, half_depth, shape.flange_width, config.flange_fibres),
-            (0.0, half_web, shape.web_thickness, web_fibres),
-            (-half_web, 0.0, shape.web_thickness, web_fibres),
-            (-half_depth, -half_web, shape.flange_width, config.flange_fibres),
-        )
-        ops.section("Fiber", section)
-        for bottom, top, width, count in rectangles:
-            points, weights = np.polynomial.legendre.leggauss(count)
-            centre, half = (top + bottom) / 2.0, (top - bottom) / 2.0
-            for point, weight in zip(points, weights, strict=True):
-                ops.fiber(centre + half * point, 0.0, width * half * weight, material)
+        self.ops.section("Fiber", section)
+        for y, area in fibre_layout(shape, self.config):
+            self.ops.fiber(y, 0.0, area, material)
         return section
 
     def _hinge_section(self, shape: WideFlange, yield_stress: float) -> int:
