@@ -35,13 +35,9 @@ from pathlib import Path
 
 import numpy as np
 from cphysfno_ground_motions.errors import GroundMotionWarning
-from cphysfno_opensees.sac9_analysis import (
-    SolverConfig,
-    analyse_record,
-    elastic_start,
-    peak_drift_ratio,
-)
+from cphysfno_opensees.sac9_analysis import SolverConfig, analyse_record, peak_drift_ratio
 from cphysfno_opensees.sac9_frame import Sac9Frame
+from cphysfno_opensees.sac9_phases import elastic_start
 
 import cphysfno_core as cp
 from cphysfno_core.config import load_config

@@ -13,11 +13,11 @@ from cphysfno_opensees.sac9_analysis import (
     Rayleigh,
     SolverConfig,
     analyse_record,
-    elastic_start,
     peak_drift_ratio,
     transient_response,
 )
 from cphysfno_opensees.sac9_model import FrameConfig
+from cphysfno_opensees.sac9_phases import elastic_start
 from cphysfno_opensees.transient import Abandoned
 
 DT = 0.01

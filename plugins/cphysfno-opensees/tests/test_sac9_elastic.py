@@ -7,15 +7,13 @@ import dataclasses
 
 import numpy as np
 import pytest
-from cphysfno_opensees import sac9_analysis
+from cphysfno_opensees import sac9_analysis, sac9_phases
 from cphysfno_opensees.loader import import_opensees
 from cphysfno_opensees.sac9_analysis import (
-    ELASTIC_SHARE,
     Rayleigh,
     SolverConfig,
     analyse_record,
     configure_solver,
-    elastic_start,
 )
 from cphysfno_opensees.sac9_elastic import (
     elastic_centre,
@@ -24,6 +22,7 @@ from cphysfno_opensees.sac9_elastic import (
     first_step_beyond,
 )
 from cphysfno_opensees.sac9_model import FrameConfig, build_frame
+from cphysfno_opensees.sac9_phases import ELASTIC_SHARE, elastic_start
 from cphysfno_opensees.sac9_sections import HARDENING_RATIO, STEEL_MODULUS
 
 DT = 0.01
@@ -122,14 +121,14 @@ def test_elastic_phases_after_a_yield_come_from_the_condensed_model(monkeypatch,
     at the first peaks: OpenSees runs through the yielding, the condensed model takes most
     of the free vibration, and the answer is OpenSees'."""
     leaps: list[int] = []
-    original = sac9_analysis.ElasticLeaps.__call__
+    original = sac9_phases.ElasticLeaps.__call__
 
     def counted(self, steps_done):
         rows = original(self, steps_done)
         leaps.append(0 if rows is None else len(rows))
         return rows
 
-    monkeypatch.setattr(sac9_analysis.ElasticLeaps, "__call__", counted)
+    monkeypatch.setattr(sac9_phases.ElasticLeaps, "__call__", counted)
     model = dataclasses.replace(MODEL, elastic_interior=interior)
     record = with_rest(pulse(1.0), 6.0)
     fast = analyse_record(model, SolverConfig(), DAMPING, record, DT)

@@ -16,18 +16,9 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from .loader import import_opensees
-from .sac9_elastic import (
-    ElasticFrame,
-    FloorState,
-    InteriorSections,
-    elastic_frame,
-    elastic_response,
-    fibre_centres,
-    first_step_beyond,
-    newmark_floors,
-    set_state,
-)
+from .sac9_elastic import InteriorSections, elastic_frame, set_state
 from .sac9_model import FrameConfig, build_frame
+from .sac9_phases import TRY_EVERY, ElasticLeaps, ElasticStart, elastic_start
 from .transient import Abandoned, integrate
 
 
@@ -55,10 +46,10 @@ class SolverConfig:
         max_iterations: iterations per step before the retry ladder takes over.
         algorithm: solution algorithm and its options (``ops.algorithm`` arguments).
         elastic_phases: fibre model: take the phases in which every fibre stays within
-            :data:`ELASTIC_SHARE` of its elastic range from the exact condensed linear
-            model (:mod:`~cphysfno_opensees.sac9_elastic`) and run OpenSees only between
-            them: from rest to the first step at which a fibre nears yield (a record that
-            never gets there needs no OpenSees analysis), and, every :data:`CHECK_EVERY` steps of
+            ``ELASTIC_SHARE`` of its elastic range from the exact condensed linear model
+            (:mod:`~cphysfno_opensees.sac9_phases`) and run OpenSees only between them:
+            from rest to the first step at which a fibre nears yield (a record that never
+            gets there needs no OpenSees analysis), and, every ``TRY_EVERY`` steps of
             OpenSees, across whatever elastic phase lies ahead.
     """
 
@@ -86,26 +77,6 @@ class Rayleigh:
         return cls(2.0 * ratio * omega_a * omega_b / total, 2.0 * ratio / total)
 
 
-ELASTIC_SHARE = 0.99
-"""Share of its elastic range up to which a fibre's stress is taken from the condensed
-linear model when :attr:`SolverConfig.elastic_phases` is on (its stresses agree with the
-OpenSees model's to about 1e-3 of the largest: the second-order P-Delta moments of the
-columns' axial forces)."""
-
-SHORTEST_LEAP = 50
-"""Fewest steps of an elastic phase worth taking from the condensed model after a yield."""
-
-CHECK_EVERY = 25
-"""Steps of OpenSees between the drift-limit checks and between attempts to take an elastic
-phase from the condensed model."""
-
-LEAP_WINDOW = 256
-"""Steps of an elastic phase computed at a time."""
-
-SETTLING_STEPS = 10
-"""Steps before the end of an elastic phase at which OpenSees takes over again, so that the
-massless rotations, set from the condensed model, settle before any fibre nears yield."""
-
 INTERIOR_DRIFT_LIMIT = 0.015
 """Story drift ratio up to which elastic interior sections are trusted without a check:
 at every step at which a story drifts further, the stresses of their outermost fibres are
@@ -126,13 +97,12 @@ def analyse_record(
     The ground acceleration is linear between samples and the equations are integrated
     with Newmark's average acceleration rule at ``dt``, one step per sample, through
     :func:`cphysfno_opensees.transient.integrate` (which retries a step that does not
-    converge). With ``solver.elastic_phases`` (fibre model), the steps before the first
-    fibre reaches :data:`ELASTIC_SHARE` of its yield stress come from the exact condensed
-    linear model and OpenSees starts from its state there (:func:`elastic_start`), and the
-    later elastic phases are taken from it too (:class:`ElasticLeaps`). A model with
-    elastic interior sections that one of them would yield under (checked at every step
-    at which a story drift ratio passes :data:`INTERIOR_DRIFT_LIMIT`) is analysed again
-    with fibres everywhere; its first analysis stops at that step.
+    converge). With ``solver.elastic_phases`` (fibre model), the elastic phases come from
+    the exact condensed linear model (:mod:`~cphysfno_opensees.sac9_phases`): the steps
+    before the first fibre nears yield, and those after a yield in which no fibre does. A
+    model with elastic interior sections that one of them would yield under (checked at
+    every step at which a story drift ratio passes :data:`INTERIOR_DRIFT_LIMIT`) is
+    analysed again with fibres everywhere; its first analysis stops at that step.
 
     Args:
         frame_config: the model.
@@ -176,44 +146,6 @@ def _analyse_record(
         pass
     fibres = dataclasses.replace(frame_config, elastic_interior=False)
     return transient_response(fibres, solver, damping, acceleration, dt, start=start)[0]
-
-
-@dataclass(frozen=True)
-class ElasticStart:
-    """Where OpenSees takes over from the condensed linear model.
-
-    Attributes:
-        step: the last step taken from the linear model.
-        displacement: ``[step + 1, 9]`` its floor displacements up to there, m.
-        state: its Newmark state of the floors at ``step``.
-        model: the condensed model.
-    """
-
-    step: int
-    displacement: np.ndarray
-    state: FloorState
-    model: ElasticFrame
-
-
-def elastic_start(
-    frame_config: FrameConfig, damping: Rayleigh, acceleration: np.ndarray, dt: float
-) -> ElasticStart:
-    """The response of the condensed linear model of the (fibre) frame up to the step
-    before a fibre first reaches :data:`ELASTIC_SHARE` of its yield stress, or to the end
-    of the record if none does (then ``step`` is the last step).
-
-    Args:
-        frame_config: the fibre model (either interior).
-        damping: Rayleigh coefficients.
-        acceleration: ``[T]`` ground acceleration, m/s^2.
-        dt: time step, s.
-    """
-    model = elastic_frame(frame_config, damping.mass, damping.stiffness)
-    u, v, a = elastic_response(model, np.asarray(acceleration, dtype=float), dt)
-    first = first_step_beyond(model, u, ELASTIC_SHARE)
-    step = len(u) - 1 if first is None else max(first - 1, 0)
-    state = FloorState(u[step], v[step], a[step])
-    return ElasticStart(step, u[: step + 1], state, model)
 
 
 def peak_drift_ratio(u: np.ndarray, heights: np.ndarray) -> float:
@@ -266,7 +198,9 @@ def transient_response(
     floors = frame.floors
     leap = None
     if model is not None:
-        leap = ElasticLeaps(ops, model, solver, acceleration, dt, first, floors)
+        leap = ElasticLeaps(
+            ops, model, lambda: start_analysis(ops, solver), acceleration, dt, first, floors
+        )
 
     interior = InteriorSections.of(frame, frame_config) if guard_interior else None
     drift_limits = INTERIOR_DRIFT_LIMIT * np.diff(frame.heights, prepend=0.0)
@@ -292,7 +226,7 @@ def transient_response(
             read,
             algorithm=solver.algorithm,
             leap=leap,
-            check_every=CHECK_EVERY,
+            check_every=TRY_EVERY,
         )
     finally:
         if collecting:
@@ -301,100 +235,6 @@ def transient_response(
     if start is not None:
         u = np.concatenate([start.displacement, u[1:]])
     return u, frame.heights
-
-
-class ElasticLeaps:
-    """Carries an OpenSees analysis of the fibre frame across the elastic phases after a
-    yield with the condensed linear model (the ``leap`` of
-    :func:`~cphysfno_opensees.transient.integrate`).
-
-    While every fibre stays elastic, the floors obey the condensed model exactly, offset by
-    the restoring force at the last OpenSees step: ``M u'' + C u' + K (u - u_k) = P(t) -
-    P_k + M u''_k + C u'_k`` (the massless DOFs' equilibrium, damping included, keeps the
-    offset constant). From the fibres' elastic centres now (:func:`fibre_centres`), the
-    model finds the step at which a fibre would leave :data:`ELASTIC_SHARE` of its elastic
-    range; if that is at least :data:`SHORTEST_LEAP` steps ahead, every node is set to the
-    state :data:`SETTLING_STEPS` before it (floors exact, the massless DOFs from the
-    condensed model, which OpenSees corrects at its next step) and the analysis continues
-    from there; if not, the next try waits until OpenSees has passed that step.
-
-    Args:
-        ops: the OpenSees module, with the analysis running.
-        model: the condensed model of the analysed frame.
-        solver: the solver settings, to start the analysis again after a leap.
-        acceleration: ``[T]`` the whole record, m/s^2.
-        dt: time step, s.
-        first: the step of the record at which the analysis started.
-        floors: the floors' node tags.
-    """
-
-    def __init__(
-        self,
-        ops: Any,
-        model: ElasticFrame,
-        solver: SolverConfig,
-        acceleration: np.ndarray,
-        dt: float,
-        first: int,
-        floors: list[int],
-    ) -> None:
-        self.ops, self.model, self.solver = ops, model, solver
-        self.acceleration = np.asarray(acceleration, dtype=float)
-        self.dt, self.first, self.floors = dt, first, floors
-        self.next_try = first
-
-    def __call__(self, steps_done: int) -> np.ndarray | None:
-        ops, model = self.ops, self.model
-        step = self.first + steps_done
-        if step < self.next_try:
-            return None
-        if len(self.acceleration) - 1 - step < SHORTEST_LEAP + SETTLING_STEPS:
-            return None
-        centres = fibre_centres(ops, model)
-        if np.any(np.abs(centres) >= ELASTIC_SHARE * model.yield_stress):
-            return None
-        u = np.array([ops.nodeDisp(node, 1) for node in self.floors])
-        v = np.array([ops.nodeVel(node, 1) for node in self.floors])
-        a = np.array([ops.nodeAccel(node, 1) for node in self.floors])
-        du, dv, da = self._elastic_phase(step, FloorState(0.0 * u, v, a), centres)
-        last = len(du) - 1
-        if last < SHORTEST_LEAP:
-            # A fibre nears yield within a few steps: OpenSees must take it there first.
-            self.next_try = step + last + SETTLING_STEPS
-            return None
-        base = {node: np.asarray(ops.nodeDisp(node)) for node in model.node_map}
-        set_state(ops, model, FloorState(du[last], dv[last], da[last]), base=base)
-        ops.setTime((step + last) * self.dt)
-        ops.wipeAnalysis()
-        start_analysis(ops, self.solver)
-        return u + du[1 : last + 1]
-
-    def _elastic_phase(
-        self, step: int, state: FloorState, centres: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The floors' displacement increments, velocities and accelerations from ``step``
-        (row 0) to :data:`SETTLING_STEPS` before a fibre leaves :data:`ELASTIC_SHARE` of
-        its elastic range, or to the end of the record; computed a window at a time."""
-        model, record = self.model, self.acceleration
-        offset = model.masses * state.acceleration + model.damping @ state.velocity
-        columns: tuple[list[np.ndarray], ...] = ([], [], [])
-        done = step
-        while True:
-            ground = record[done : done + LEAP_WINDOW + 1] - record[step]
-            window = newmark_floors(model, offset - np.outer(ground, model.masses), self.dt, state)
-            beyond = first_step_beyond(model, window[0], ELASTIC_SHARE, centres)
-            keep = len(window[0]) if beyond is None else beyond
-            for column, part in zip(columns, window, strict=True):
-                column.append(part[(0 if done == step else 1) : keep])
-            done += len(window[0]) - 1
-            if beyond is not None or done >= len(record) - 1:
-                break
-            state = FloorState(*(part[-1] for part in window))
-        du, dv, da = (np.concatenate(column) for column in columns)
-        if beyond is not None:
-            keep = max(len(du) - SETTLING_STEPS, 1)
-            du, dv, da = du[:keep], dv[:keep], da[:keep]
-        return du, dv, da
 
 
 def start_analysis(ops: Any, solver: SolverConfig) -> None:
