@@ -30,17 +30,23 @@ def test_a_failed_task_terminates_the_tasks_still_running(toys_in_workers, tmp_p
 
 def test_an_interrupted_run_terminates_its_workers(toys_in_workers, tmp_path):
     settings = DataConfig(executor="processes", workers=2)
+    # Python's own Ctrl-C handler, also where the test runner was started with SIGINT
+    # ignored (in the background of a non-interactive shell).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     ctrl_c = threading.Timer(2.0, os.kill, (os.getpid(), signal.SIGINT))
     ctrl_c.start()
     started = time.perf_counter()
-    with pytest.raises(KeyboardInterrupt):
-        run_tasks(
-            fail_or_finish_late,
-            [1, 2],
-            lambda key: (key, str(tmp_path)),
-            settings,
-            lambda key, result: None,
-        )
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run_tasks(
+                fail_or_finish_late,
+                [1, 2],
+                lambda key: (key, str(tmp_path)),
+                settings,
+                lambda key, result: None,
+            )
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert time.perf_counter() - started < 7.0
     time.sleep(max(0.0, 10.0 - (time.perf_counter() - started)))
     assert not list(tmp_path.glob("finished-*"))
