@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 from cphysfno_opensees.sac9_analysis import (
     INTERIOR_DRIFT_LIMIT,
-    Rayleigh,
     SolverConfig,
     analyse_record,
     peak_drift_ratio,
@@ -19,21 +18,10 @@ from cphysfno_opensees.sac9_analysis import (
 from cphysfno_opensees.sac9_model import FrameConfig
 from cphysfno_opensees.sac9_phases import elastic_start
 from cphysfno_opensees.transient import Abandoned
+from sac9_pulses import DAMPING, DT, pulse, relative
 
-DT = 0.01
-DAMPING = Rayleigh.matching(2.0 * np.pi / 2.37, 2.0 * np.pi / 0.51, 0.03)
 ENDS_ONLY = FrameConfig()
 EVERYWHERE = dataclasses.replace(ENDS_ONLY, elastic_interior=False)
-
-
-def pulse(amplitude: float) -> np.ndarray:
-    """One sine cycle of 1.5 s and ``amplitude`` m/s^2, then 0.5 s at rest (dt 0.01 s)."""
-    t = np.arange(201) * DT
-    return amplitude * np.sin(2.0 * np.pi * t / 1.5) * (t < 1.5)
-
-
-def relative(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.linalg.norm(a - b) / np.linalg.norm(b))
 
 
 def test_peak_drift_ratio_of_two_floors():

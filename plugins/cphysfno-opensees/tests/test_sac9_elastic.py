@@ -10,7 +10,6 @@ import pytest
 from cphysfno_opensees import sac9_analysis, sac9_phases
 from cphysfno_opensees.loader import import_opensees
 from cphysfno_opensees.sac9_analysis import (
-    Rayleigh,
     SolverConfig,
     analyse_record,
     configure_solver,
@@ -24,24 +23,13 @@ from cphysfno_opensees.sac9_elastic import (
 from cphysfno_opensees.sac9_model import FrameConfig, build_frame
 from cphysfno_opensees.sac9_phases import ELASTIC_SHARE, elastic_start
 from cphysfno_opensees.sac9_sections import HARDENING_RATIO, STEEL_MODULUS
+from sac9_pulses import DAMPING, DT, pulse, relative
 
-DT = 0.01
-DAMPING = Rayleigh.matching(2.0 * np.pi / 2.37, 2.0 * np.pi / 0.51, 0.03)
 MODEL = FrameConfig()
 PLAIN = SolverConfig(elastic_phases=False)
 TIGHT = SolverConfig(
     test="NormDispIncr", tolerance=1e-12, algorithm=("Newton",), elastic_phases=False
 )
-
-
-def pulse(amplitude: float) -> np.ndarray:
-    """One sine cycle of 1.5 s and ``amplitude`` m/s^2, then 0.5 s at rest (dt 0.01 s)."""
-    t = np.arange(201) * DT
-    return amplitude * np.sin(2.0 * np.pi * t / 1.5) * (t < 1.5)
-
-
-def relative(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.linalg.norm(a - b) / np.linalg.norm(b))
 
 
 @pytest.fixture(scope="module")

@@ -121,31 +121,23 @@ def analyse_record(
     # wait on BLAS threads competing with the OpenSees libraries' own (measured: 30 % of
     # the time of a yielding record).
     with threadpool_limits(limits=1):
-        return _analyse_record(frame_config, solver, damping, acceleration, dt)
-
-
-def _analyse_record(
-    frame_config: FrameConfig,
-    solver: SolverConfig,
-    damping: Rayleigh,
-    acceleration: np.ndarray,
-    dt: float,
-) -> np.ndarray:
-    start = None
-    if solver.elastic_phases and frame_config.model == "fibre":
-        start = elastic_start(frame_config, damping, acceleration, dt)
-        if start.step == len(acceleration) - 1:
-            return start.displacement
-    if not frame_config.elastic_interior:
-        return transient_response(frame_config, solver, damping, acceleration, dt, start=start)[0]
-    try:
-        return transient_response(
-            frame_config, solver, damping, acceleration, dt, guard_interior=True, start=start
-        )[0]
-    except Abandoned:
-        pass
-    fibres = dataclasses.replace(frame_config, elastic_interior=False)
-    return transient_response(fibres, solver, damping, acceleration, dt, start=start)[0]
+        start = None
+        if solver.elastic_phases and frame_config.model == "fibre":
+            start = elastic_start(frame_config, damping, acceleration, dt)
+            if start.step == len(acceleration) - 1:
+                return start.displacement
+        if not frame_config.elastic_interior:
+            return transient_response(frame_config, solver, damping, acceleration, dt, start=start)[
+                0
+            ]
+        try:
+            return transient_response(
+                frame_config, solver, damping, acceleration, dt, guard_interior=True, start=start
+            )[0]
+        except Abandoned:
+            pass
+        fibres = dataclasses.replace(frame_config, elastic_interior=False)
+        return transient_response(fibres, solver, damping, acceleration, dt, start=start)[0]
 
 
 def peak_drift_ratio(u: np.ndarray, heights: np.ndarray) -> float:
