@@ -13,6 +13,7 @@ from pydantic import Field
 from cphysfno_core import LinearSystem
 
 from .bridge_analysis import analyse
+from .bridge_compiled import analyse as compiled_analysis
 from .bridge_design import BridgeDesign
 from .bridge_linear import Matrices, Rayleigh, assemble
 from .bridge_model import ElasticSection, Numerics, elastic_section
@@ -48,6 +49,11 @@ class AuburnRavineBridgeParams(OpenSeesParams):
         "fibre",
         description="fibre-section columns (the nonlinear model) or their elastic twins of "
         "the initial section stiffness (the linear representation, run through OpenSees)",
+    )
+    engine: Literal["compiled", "opensees"] = Field(
+        "compiled",
+        description="who analyses the fibre bridge: compiled code that solves the OpenSees "
+        "model's equations (same answer, several times faster) or OpenSees itself",
     )
     sectors: int = Field(NUMERICS.sectors, ge=4, description="fibres around the section")
     core_rings: int = Field(NUMERICS.core_rings, ge=1, description="fibre rings in the core")
@@ -127,7 +133,9 @@ class AuburnRavineBridge(OpenSeesStructure):
         return self.matrices.rayleigh(self.params.damping_ratio, self.params.damping_period)
 
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
-        """One record's analysis of the bridge with the chosen columns."""
+        """One record's analysis of the bridge with the chosen columns and engine."""
+        if self.params.columns == "fibre" and self.params.engine == "compiled":
+            return functools.partial(compiled_analysis, self.design, self.numerics, self.damping)
         elastic = self.elastic_section if self.params.columns == "elastic" else None
         return functools.partial(
             analyse, self.design, self.numerics, self.damping, self.params.columns, elastic

@@ -178,14 +178,43 @@ def _abutments(ops: Any, design: BridgeDesign, where: Layout) -> None:
         )  # fmt: skip
 
 
-def _shear_and_torsion(ops: Any, design: BridgeDesign) -> tuple[float, float]:
-    """The elastic shear material (N) and the torsional stiffness GJ (N m^2) of a column."""
+def shear_and_torsion_stiffness(design: BridgeDesign) -> tuple[float, float]:
+    """The elastic shear stiffness GA (N, each of Vy and Vz) and torsional stiffness GJ
+    (N m^2) of a column."""
     shear_modulus = design.concrete_modulus / 2.4
-    ops.uniaxialMaterial(
-        "Elastic", SHEAR, shear_modulus * design.shear_area_factor * design.gross_area
-    )
     polar = np.pi * design.column_diameter**4 / 32.0
-    return SHEAR, design.column_torsion_factor * shear_modulus * polar
+    return (
+        shear_modulus * design.shear_area_factor * design.gross_area,
+        design.column_torsion_factor * shear_modulus * polar,
+    )
+
+
+def _shear_and_torsion(ops: Any, design: BridgeDesign) -> tuple[float, float]:
+    """The elastic shear material (tag) and the torsional stiffness GJ (N m^2) of a column."""
+    shear, torsion = shear_and_torsion_stiffness(design)
+    ops.uniaxialMaterial("Elastic", SHEAR, shear)
+    return SHEAR, torsion
+
+
+def section_fibres(
+    design: BridgeDesign, numerics: Numerics
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(core, cover, bars)``: ``[n, 3]`` fibres ``(y, z, area)`` (m, m, m^2) of the column
+    section, each group of one material."""
+    core_radius = design.core_diameter / 2.0
+    outer = design.column_diameter / 2.0
+    core = polar_gauss(0.0, core_radius, numerics.core_rings, numerics.sectors)
+    cover = polar_gauss(core_radius, outer, numerics.cover_rings, numerics.sectors)
+    angles = 2.0 * np.pi * np.arange(design.longitudinal_bars) / design.longitudinal_bars
+    bars = np.stack(
+        [
+            design.bar_radius * np.cos(angles),
+            design.bar_radius * np.sin(angles),
+            np.full(angles.size, design.bar_area),
+        ],
+        axis=1,
+    )
+    return np.array(core), np.array(cover), bars
 
 
 def _fibre_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> None:
@@ -209,19 +238,11 @@ def _fibre_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> None:
         "Steel02", STEEL, design.steel_yield, design.steel_modulus, hardening, 20.0, 0.925, 0.15
     )
     shear, torsion = _shear_and_torsion(ops, design)
-    core_radius = design.core_diameter / 2.0
     ops.section("Fiber", FIBRE_SECTION, "-GJ", torsion)
-    for material, inner, outer, rings in (
-        (CORE, 0.0, core_radius, numerics.core_rings),
-        (COVER, core_radius, design.column_diameter / 2.0, numerics.cover_rings),
-    ):
-        for y, z, area in polar_gauss(inner, outer, rings, numerics.sectors):
-            ops.fiber(y, z, area, material)
-    n = design.longitudinal_bars
-    for k in range(n):
-        angle = 2.0 * np.pi * k / n
-        y, z = design.bar_radius * np.cos(angle), design.bar_radius * np.sin(angle)
-        ops.fiber(float(y), float(z), design.bar_area, STEEL)
+    groups = zip((CORE, COVER, STEEL), section_fibres(design, numerics), strict=True)
+    for material, fibres in groups:
+        for y, z, area in fibres:
+            ops.fiber(float(y), float(z), float(area), material)
     ops.section("Aggregator", COLUMN_SECTION, shear, "Vy", shear, "Vz", "-section", FIBRE_SECTION)
 
 

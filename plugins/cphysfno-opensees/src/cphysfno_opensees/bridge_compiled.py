@@ -1,0 +1,275 @@
+"""The fibre bridge analysed in compiled code instead of OpenSees, with the same answer.
+
+Everything linear (girder, bent caps, abutment springs, masses, the initial stiffness of
+the Rayleigh damping, gravity loads) is read from the OpenSees model itself; the ten
+force-based fibre columns are evaluated by :mod:`.fibre.rc_column` (OpenSees' element,
+section and materials, checked against them in the tests) and the Newmark-Newton
+iterations run on the column tops alone (:mod:`.fibre.dynamics`). The result is OpenSees'
+``forceBeamColumn`` bridge of :mod:`.bridge_model` to the Newton tolerance.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+from .bridge_design import GRAVITY, BridgeDesign
+from .bridge_linear import TRANSVERSE, Rayleigh, _tangent
+from .bridge_model import Numerics, build, section_fibres, shear_and_torsion_stiffness
+from .fibre import concrete04, steel02
+from .fibre.dynamics import SPLITS, Partition, newmark, static_steps
+from .fibre.rc_column import Columns, ColumnState, lobatto
+from .fibre.section import FibreGroup
+from .loader import import_opensees
+from .transient import AnalysisFailed
+
+GRAVITY_STEPS = 10
+"""Load steps of the gravity analysis (as in :func:`.bridge_model.apply_gravity`)."""
+GRAVITY_TOLERANCE = 1e-12
+"""Its Newton tolerance on the displacement increment, m."""
+
+
+@dataclass(frozen=True)
+class CompiledBridge:
+    """The bridge's equations, ready for :func:`analyse_compiled` (SI units).
+
+    Attributes:
+        mass: ``[n]`` lumped mass of each equation, kg (zero on rotations).
+        stiffness: ``[n, n]`` the linear elements' stiffness (no columns).
+        initial_stiffness: ``[n, n]`` every element's initial stiffness (for the damping).
+        gravity: ``[n]`` the weights of the lumped masses, N.
+        influence: ``[n]`` ones on the transverse translations.
+        tops: ``[c, 6]`` the equations of each column top.
+        outputs: ``[c]`` the transverse equation of each column top.
+        columns: the fibre columns.
+        concrete_modulus, steel_modulus: initial moduli of the fibres, Pa.
+    """
+
+    mass: np.ndarray
+    stiffness: np.ndarray
+    initial_stiffness: np.ndarray
+    gravity: np.ndarray
+    influence: np.ndarray
+    tops: np.ndarray
+    outputs: np.ndarray
+    columns: Columns
+    concrete_modulus: float
+    steel_modulus: float
+
+    def virgin(self) -> ColumnState:
+        return self.columns.virgin(self.concrete_modulus, self.steel_modulus)
+
+
+def fibre_columns(design: BridgeDesign, numerics: Numerics) -> Columns:
+    """The ten columns of :func:`.bridge_model.build` with the section of
+    :func:`.bridge_model._fibre_section` (same fibres, materials and integration)."""
+    core = design.confined_concrete()
+    tension = design.concrete_tensile_strength
+    cracking = tension / design.concrete_modulus
+    core_p = concrete04.parameters(
+        -core.strength, -core.peak_strain, -core.ultimate_strain,
+        design.concrete_modulus, tension, cracking,
+    )  # fmt: skip
+    cover_p = concrete04.parameters(
+        -design.concrete_strength, -design.concrete_peak_strain, -design.cover_spalling_strain,
+        design.concrete_modulus, tension, cracking,
+    )  # fmt: skip
+    hardening = (design.steel_ultimate - design.steel_yield) / (
+        design.steel_modulus
+        * (design.steel_ultimate_strain - design.steel_yield / design.steel_modulus)
+    )
+    steel_p = steel02.parameters(
+        design.steel_yield, design.steel_modulus, hardening, 20.0, 0.925, 0.15
+    )
+
+    def group(fibres: np.ndarray, p: np.ndarray, module: Any) -> FibreGroup:
+        y, z, area = (np.ascontiguousarray(fibres[:, k]) for k in range(3))
+        return FibreGroup(y, z, area, p, module.initial_state(p))
+
+    core_fibres, cover_fibres, bars = section_fibres(design, numerics)
+    locations, weights = lobatto(numerics.integration_points)
+    heights = [h for h in design.pier_heights for _ in (0, 1)]
+    # local x up the column; y = (1, 0, 0) x x and z = x x y, as OpenSees' vecxz = (1, 0, 0)
+    axis_x = np.array([0.0, 0.0, 1.0])
+    axis_y = np.cross([1.0, 0.0, 0.0], axis_x)
+    rotation = np.stack([axis_x, axis_y, np.cross(axis_x, axis_y)])
+    shear, torsion = shear_and_torsion_stiffness(design)
+    return Columns(
+        core=group(core_fibres, core_p, concrete04),
+        cover=group(cover_fibres, cover_p, concrete04),
+        bars=group(bars, steel_p, steel02),
+        lengths=np.asarray(heights, dtype=np.float64),
+        rotations=np.broadcast_to(rotation, (len(heights), 3, 3)).copy(),
+        locations=locations,
+        weights=weights,
+        shear_stiffness=shear,
+        torsional_stiffness=torsion,
+    )
+
+
+def compile_bridge(ops: Any, design: BridgeDesign, numerics: Numerics) -> CompiledBridge:
+    """Read the linear part of the fibre bridge from OpenSees and set up its columns.
+
+    The domain is wiped before and after.
+    """
+    where = build(ops, design, numerics, "fibre", gravity=False)
+    initial = _tangent(ops)
+    n = initial.shape[0]
+    mass = np.zeros(n)
+    gravity = np.zeros(n)
+    influence = np.zeros(n)
+    for node in (*where.girder_nodes, *where.column_tops):
+        numbers = ops.nodeDOFs(node)
+        for direction in (1, 2, 3):
+            equation = numbers[direction - 1]
+            if equation >= 0:
+                mass[equation] = ops.nodeMass(node, direction)
+                influence[equation] = 1.0 if direction == TRANSVERSE else 0.0
+        if numbers[2] >= 0:
+            gravity[numbers[2]] = -ops.nodeMass(node, 3) * GRAVITY
+    tops = np.array([ops.nodeDOFs(top) for top in where.column_tops], dtype=np.int64)
+    if (tops < 0).any():
+        raise RuntimeError("a column top has a constrained DOF: the compiled bridge needs all six")
+    for b in range(len(where.bents)):
+        for s in (0, 1):
+            ops.remove("element", 4000 + 10 * b + s)
+    ops.wipeAnalysis()
+    linear = _tangent(ops)
+    ops.wipe()
+    return CompiledBridge(
+        mass=mass,
+        stiffness=linear,
+        initial_stiffness=initial,
+        gravity=gravity,
+        influence=influence,
+        tops=tops,
+        outputs=np.ascontiguousarray(tops[:, TRANSVERSE - 1]),
+        columns=fibre_columns(design, numerics),
+        concrete_modulus=design.concrete_modulus,
+        steel_modulus=design.steel_modulus,
+    )
+
+
+def _columns_tuple(columns: Columns) -> tuple:
+    return (
+        columns.lengths,
+        columns.rotations,
+        columns.locations,
+        columns.weights,
+        columns.elastic_flexibility,
+        columns.fibres,
+    )
+
+
+def _state_tuple(state: ColumnState) -> tuple:
+    return (state.element, state.committed, state.materials, state.current)
+
+
+def at_rest_under_gravity(bridge: CompiledBridge) -> tuple[np.ndarray, ColumnState]:
+    """``(u [n], columns)``: the bridge brought to rest under its weight by load control."""
+    state = bridge.virgin()
+    u = np.zeros(bridge.mass.size)
+    partition = Partition.of(bridge.stiffness, bridge.tops)
+    ok = static_steps(
+        bridge.gravity, GRAVITY_STEPS, bridge.stiffness, u, partition.arrays(),
+        _columns_tuple(bridge.columns), _state_tuple(state),
+        (GRAVITY_TOLERANCE, 50, np.zeros(2, dtype=np.int64)),
+    )  # fmt: skip
+    if not ok:
+        raise RuntimeError("the bridge does not carry its own weight: check the design")
+    return u, state
+
+
+def analyse_compiled(
+    bridge: CompiledBridge,
+    numerics: Numerics,
+    damping: Rayleigh,
+    acceleration: np.ndarray,
+    dt: float,
+) -> np.ndarray:
+    """Transverse column-top displacements of the bridge under one ground motion: the
+    result of :func:`.bridge_analysis.analyse` with fibre columns, computed here.
+
+    Args:
+        bridge: from :func:`compile_bridge`.
+        numerics: substeps, tolerance and iterations of the analysis.
+        damping: Rayleigh factors (``alphaM``, ``betaKinit``).
+        acceleration: ``[T]`` ground acceleration, m/s^2 (linear between samples).
+        dt: its time step, s.
+
+    Returns:
+        ``[T, 10]`` displacements relative to the ground (m) from the gravity state.
+
+    Raises:
+        AnalysisFailed: a step did not converge, even split into 8.
+    """
+    u, state = at_rest_under_gravity(bridge)
+    k = numerics.substeps
+    values = np.asarray(acceleration, dtype=np.float64)
+    fine = np.interp(np.arange(k * (values.size - 1) + 1) / k, np.arange(values.size), values)
+    step = dt / k
+    damping_matrix = (
+        damping.mass_factor * np.diag(bridge.mass)
+        + damping.stiffness_factor * bridge.initial_stiffness
+    )
+    partitions = tuple(
+        Partition.of(effective_matrix(bridge, damping_matrix, step / split), bridge.tops).arrays()
+        for split in (1, *SPLITS)
+    )
+    linear = (
+        bridge.mass,
+        bridge.influence,
+        bridge.gravity,
+        bridge.stiffness,
+        damping_matrix,
+        0.5,
+        0.25,
+    )
+    motion = (u.copy(), np.zeros_like(u), np.zeros_like(u))
+    at_rest = u[bridge.outputs].copy()
+    counts = np.zeros(2, dtype=np.int64)
+    out, failed = newmark(
+        fine[1:], step, bridge.outputs, linear, motion, partitions,
+        _columns_tuple(bridge.columns), _state_tuple(state),
+        (numerics.tolerance, numerics.max_iterations, counts),
+    )  # fmt: skip
+    if failed >= 0:
+        raise AnalysisFailed(failed * step, "Newton at dt and at dt/2, dt/4, dt/8")
+    return out[::k] - at_rest
+
+
+def effective_matrix(bridge: CompiledBridge, damping: np.ndarray, step: float) -> np.ndarray:
+    """``K + 2/dt C + 4/dt^2 M``: the linear part of Newmark's (average acceleration)
+    effective stiffness for the step ``dt`` (s)."""
+    return bridge.stiffness + (2.0 / step) * damping + (4.0 / step**2) * np.diag(bridge.mass)
+
+
+def analyse(
+    design: BridgeDesign,
+    numerics: Numerics,
+    damping: Rayleigh,
+    acceleration: np.ndarray,
+    dt: float,
+) -> np.ndarray:
+    """:func:`analyse_compiled` for a worker process: reads the bridge from OpenSees on
+    first use, and keeps BLAS to one thread (its threads would spin between the small
+    solves of every step)."""
+    bridge = _compiled(design, numerics)
+    with threadpool_limits(1):
+        return analyse_compiled(bridge, numerics, damping, acceleration, dt)
+
+
+_CACHE: dict[tuple, CompiledBridge] = {}
+
+
+def _compiled(design: BridgeDesign, numerics: Numerics) -> CompiledBridge:
+    key = (design, numerics)
+    if key not in _CACHE:
+        ops = import_opensees()
+        ops.logFile(os.devnull, "-noEcho")
+        _CACHE[key] = compile_bridge(ops, design, numerics)
+    return _CACHE[key]

@@ -1,0 +1,330 @@
+"""Force-based reinforced-concrete columns, fixed at the base, in compiled code.
+
+Each column is OpenSees' ``forceBeamColumn`` (Gauss-Lobatto sections, the iterative state
+determination of Spacone, Filippou and Taucer with its energy tolerance) on a ``PDelta``
+transformation, with a fibre section of three groups (confined core and cover in
+``Concrete04``, bars in ``Steel02``) and elastic shear (``Vy``, ``Vz``) and torsion. Its
+base is fixed, so only the six displacements of its top enter the structure.
+
+Basic forces ``q = (N, Mz_i, Mz_j, My_i, My_j, T)`` and deformations ``v`` follow OpenSees'
+3-d convention; a section at ``xi = x / L`` carries ``(N, Mz, My) = (q0, (xi - 1) q1 + xi
+q2, (xi - 1) q3 + xi q4)``. All columns of a :class:`Columns` share the section and the
+integration rule and differ in length and orientation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from . import concrete04, steel02
+from .section import FibreGroup, add_group, invert3, symmetrise
+
+ELEMENT_TOLERANCE = 1e-12
+"""OpenSees' default energy tolerance of the element state determination, J."""
+ELEMENT_ITERATIONS = 50
+"""Element iterations before the state determination gives up."""
+ROW = (0, 1, 1, 2, 2)
+"""The section force that each of the basic forces ``q0 .. q4`` enters."""
+
+
+def lobatto(points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Lobatto locations ``xi`` in [0, 1] and weights (summing to 1)."""
+    if points < 3:
+        raise ValueError("Gauss-Lobatto integration needs at least 3 points")
+    inner = np.polynomial.legendre.Legendre.basis(points - 1).deriv().roots()
+    nodes = np.concatenate([[-1.0], np.sort(inner.real), [1.0]])
+    legendre = np.polynomial.legendre.Legendre.basis(points - 1)(nodes)
+    weights = 2.0 / (points * (points - 1) * legendre**2)
+    return 0.5 * (nodes + 1.0), 0.5 * weights
+
+
+@dataclass(frozen=True)
+class Columns:
+    """The constant data of a set of force-based columns.
+
+    Attributes:
+        core, cover, bars: the section's fibre groups.
+        lengths: ``[c]`` column lengths, m.
+        rotations: ``[c, 3, 3]`` rows: the local x (base to top), y and z axes in global
+            coordinates.
+        locations: ``[s]`` section locations ``xi``.
+        weights: ``[s]`` integration weights (summing to 1).
+        shear_stiffness: GA of each of ``Vy`` and ``Vz``, N.
+        torsional_stiffness: GJ, N m^2.
+    """
+
+    core: FibreGroup
+    cover: FibreGroup
+    bars: FibreGroup
+    lengths: np.ndarray
+    rotations: np.ndarray
+    locations: np.ndarray
+    weights: np.ndarray
+    shear_stiffness: float
+    torsional_stiffness: float
+    elastic_flexibility: np.ndarray = field(init=False)
+
+    def __post_init__(self) -> None:
+        flexibility = np.zeros((self.lengths.size, 6, 6))
+        for c, length in enumerate(self.lengths):
+            shear = 1.0 / (length * self.shear_stiffness)
+            flexibility[c, 1:3, 1:3] = shear
+            flexibility[c, 3:5, 3:5] = shear
+            flexibility[c, 5, 5] = length / self.torsional_stiffness
+        object.__setattr__(self, "elastic_flexibility", flexibility)
+
+    @property
+    def count(self) -> int:
+        return int(self.lengths.size)
+
+    def initial_section_tangent(self, concrete_modulus: float, steel_modulus: float):
+        """``[3, 3]`` section stiffness at zero strain (N, N m, N m^2)."""
+        return (
+            self.core.initial_tangent(concrete_modulus)
+            + self.cover.initial_tangent(concrete_modulus)
+            + self.bars.initial_tangent(steel_modulus)
+        )
+
+    @property
+    def fibres(self) -> tuple[np.ndarray, ...]:
+        """Parameters, ``y``, ``z`` and areas of the core, cover and bar groups, in order."""
+        return tuple(
+            array
+            for group in (self.core, self.cover, self.bars)
+            for array in (group.parameters, group.y, group.z, group.area)
+        )
+
+    def virgin(self, concrete_modulus: float, steel_modulus: float) -> ColumnState:
+        """Every column at rest, unstrained."""
+        c, s = self.count, self.locations.size
+        section = np.linalg.inv(self.initial_section_tangent(concrete_modulus, steel_modulus))
+        flexibility = np.broadcast_to(section, (c, s, 3, 3)).copy()
+        stiffness = np.zeros((c, 6, 6))
+        for k in range(c):
+            total = self.elastic_flexibility[k].copy()
+            basic = basic_flexibility(flexibility[k], self.locations, self.weights, self.lengths[k])
+            total[:5, :5] += basic
+            stiffness[k] = np.linalg.inv(total)
+        element = (
+            np.zeros((c, 6)),
+            np.zeros((c, 6)),
+            stiffness,
+            np.zeros((c, s, 3)),
+            np.zeros((c, s, 3)),
+            flexibility,
+        )
+        materials = (self.core.states(2, c, s), self.cover.states(2, c, s),
+                     self.bars.states(2, c, s))  # fmt: skip
+        return ColumnState(
+            element, tuple(a.copy() for a in element), materials, np.zeros(c, dtype=np.int64)
+        )
+
+
+def basic_flexibility(
+    section_flexibility: np.ndarray, locations: np.ndarray, weights: np.ndarray, length: float
+) -> np.ndarray:
+    """``[5, 5]`` flexibility of ``(N, Mz_i, Mz_j, My_i, My_j)`` from the sections' ``[s, 3,
+    3]`` flexibilities (no shear or torsion)."""
+    out = np.zeros((5, 5))
+    for fs, xi, w in zip(section_flexibility, locations, weights, strict=True):
+        b = np.zeros((3, 5))
+        b[0, 0] = 1.0
+        b[1, 1:3] = xi - 1.0, xi
+        b[2, 3:5] = xi - 1.0, xi
+        out += w * length * b.T @ fs @ b
+    return out
+
+
+@dataclass
+class ColumnState:
+    """The state of every column.
+
+    Attributes:
+        element: the trial element state, arrays indexed by column first: basic
+            deformations ``v [c, 6]``, basic forces ``q [c, 6]`` (N, N m), basic stiffness
+            ``[c, 6, 6]``, section deformations and forces ``[c, s, 3]`` and section
+            flexibilities ``[c, s, 3, 3]``.
+        committed: the same at the last commit.
+        materials: fibre states of the core, cover and bars, ``[2, c, s, n, n_state]``:
+            two buffers per column, ``current[c]`` the committed one, the other written
+            with the trial states at every evaluation.
+        current: ``[c]`` which buffer holds the committed fibre states.
+    """
+
+    element: tuple[np.ndarray, ...]
+    committed: tuple[np.ndarray, ...]
+    materials: tuple[np.ndarray, np.ndarray, np.ndarray]
+    current: np.ndarray
+
+    @property
+    def force(self) -> np.ndarray:
+        """``[c, 6]`` trial basic forces."""
+        return self.element[1]
+
+
+@numba.njit(cache=True)
+def _section(fibres, committed, trial, e, force, tangent):
+    """Trial forces and tangent of one section at deformations ``e``; ``committed`` and
+    ``trial`` hold the (core, cover, bars) fibre states of the section."""
+    force[:] = 0.0
+    tangent[:, :] = 0.0
+    p, y, z, a = fibres[0], fibres[1], fibres[2], fibres[3]
+    add_group(concrete04.trial, p, y, z, a, committed[0], trial[0], e, force, tangent)
+    p, y, z, a = fibres[4], fibres[5], fibres[6], fibres[7]
+    add_group(concrete04.trial, p, y, z, a, committed[1], trial[1], e, force, tangent)
+    p, y, z, a = fibres[8], fibres[9], fibres[10], fibres[11]
+    add_group(steel02.trial, p, y, z, a, committed[2], trial[2], e, force, tangent)
+    symmetrise(tangent)
+
+
+@numba.njit(cache=True)
+def update_column(
+    c, v, length, locations, weights, elastic_flexibility, fibres, element, materials, current
+):
+    """Bring column ``c`` to the basic deformations ``v [6]``.
+
+    The trial element state (``element``, see :class:`ColumnState`) is advanced in place
+    from its last trial value; the fibres are evaluated from their committed states
+    (``materials`` buffers ``current``). Returns the element iterations taken, negative if
+    the state determination did not converge.
+    """
+    vt, q, kv, e, s, fs = element
+    dv = v - vt[c]
+    q_trial = q[c] + kv[c] @ dv
+    target = np.empty(3)
+    residual = np.empty(3)
+    increment = np.empty(3)
+    tangent = np.empty((3, 3))
+    flexibility = np.empty((6, 6))
+    vr = np.empty(6)
+    b = np.ones(5)
+    k = current[c]
+    committed = (materials[0][k, c], materials[1][k, c], materials[2][k, c])
+    trial = (materials[0][1 - k, c], materials[1][1 - k, c], materials[2][1 - k, c])
+    for iteration in range(1, ELEMENT_ITERATIONS + 1):
+        flexibility[:, :] = elastic_flexibility
+        vr[:] = elastic_flexibility @ q_trial
+        for i in range(locations.size):
+            xi = locations[i]
+            wl = weights[i] * length
+            target[0] = q_trial[0]
+            target[1] = (xi - 1.0) * q_trial[1] + xi * q_trial[2]
+            target[2] = (xi - 1.0) * q_trial[3] + xi * q_trial[4]
+            for a in range(3):
+                residual[a] = target[a] - s[c, i, a]
+            for a in range(3):
+                e[c, i, a] += (
+                    fs[c, i, a, 0] * residual[0]
+                    + fs[c, i, a, 1] * residual[1]
+                    + fs[c, i, a, 2] * residual[2]
+                )
+            _section(
+                fibres, (committed[0][i], committed[1][i], committed[2][i]),
+                (trial[0][i], trial[1][i], trial[2][i]), e[c, i], s[c, i], tangent,
+            )  # fmt: skip
+            invert3(tangent, fs[c, i])
+            # the deformations the section would need to carry the target forces
+            for a in range(3):
+                residual[a] = target[a] - s[c, i, a]
+            for a in range(3):
+                increment[a] = e[c, i, a] + (
+                    fs[c, i, a, 0] * residual[0]
+                    + fs[c, i, a, 1] * residual[1]
+                    + fs[c, i, a, 2] * residual[2]
+                )
+            # b^T fs b and b^T (e + fs r); b maps (N, Mz_i, Mz_j, My_i, My_j) to the section
+            b[1] = xi - 1.0
+            b[2] = xi
+            b[3] = xi - 1.0
+            b[4] = xi
+            for m in range(5):
+                vr[m] += wl * b[m] * increment[ROW[m]]
+                for n in range(5):
+                    flexibility[m, n] += wl * b[m] * fs[c, i, ROW[m], ROW[n]] * b[n]
+        kv[c] = np.linalg.inv(flexibility)
+        dv_residual = v - vr
+        dq = kv[c] @ dv_residual
+        q_trial += dq
+        if abs(dv_residual @ dq) < ELEMENT_TOLERANCE:
+            q[c] = q_trial
+            vt[c] = v
+            return iteration
+    return -1
+
+
+@numba.njit(cache=True)
+def copy_element(source, target):
+    """Copy the element state ``source`` (see :class:`ColumnState`) into ``target``."""
+    target[0][...] = source[0]
+    target[1][...] = source[1]
+    target[2][...] = source[2]
+    target[3][...] = source[3]
+    target[4][...] = source[4]
+    target[5][...] = source[5]
+
+
+@numba.njit(cache=True)
+def commit_columns(element, committed, current):
+    """Accept every column's trial state: its fibre states, written to the spare buffer
+    by the last evaluation, become the committed ones; the element state is copied."""
+    copy_element(element, committed)
+    for c in range(current.size):
+        current[c] = 1 - current[c]
+
+
+@numba.njit(cache=True)
+def revert_columns(element, committed):
+    """Return every column's element state to the last commit (the fibres are always
+    evaluated from their committed states)."""
+    copy_element(committed, element)
+
+
+@numba.njit(cache=True)
+def chord_map(length):
+    """``[6, 6]`` map from the top's local displacements and rotations ``(ux, uy, uz, rx,
+    ry, rz)`` to the basic deformations, the base being fixed (OpenSees' linear and
+    P-Delta transformations)."""
+    a = np.zeros((6, 6))
+    a[0, 0] = 1.0
+    a[1, 1] = -1.0 / length
+    a[2, 1] = -1.0 / length
+    a[2, 5] = 1.0
+    a[3, 2] = 1.0 / length
+    a[4, 2] = 1.0 / length
+    a[4, 4] = 1.0
+    a[5, 3] = 1.0
+    return a
+
+
+@numba.njit(cache=True)
+def local_top(rotation, top):
+    """``[6]`` the top's displacements and rotations ``top [6]`` in local axes."""
+    out = np.empty(6)
+    out[:3] = rotation @ top[:3]
+    out[3:] = rotation @ top[3:]
+    return out
+
+
+@numba.njit(cache=True)
+def top_response(rotation, length, top, q, kv, force, stiffness):
+    """Global force ``[6]`` and tangent ``[6, 6]`` that a column with basic forces ``q``
+    and basic stiffness ``kv`` exerts on its top, displaced by ``top [6]`` (global),
+    with OpenSees' P-Delta terms (the axial force times the chord's lateral drift over L)."""
+    a = chord_map(length)
+    local = local_top(rotation, top)
+    axial_over_length = q[0] / length
+    p = a.T @ q
+    p[1] += axial_over_length * local[1]
+    p[2] += axial_over_length * local[2]
+    k = a.T @ kv @ a
+    k[1, 1] += axial_over_length
+    k[2, 2] += axial_over_length
+    force[:3] = rotation.T @ p[:3]
+    force[3:] = rotation.T @ p[3:]
+    t = np.zeros((6, 6))
+    t[:3, :3] = rotation
+    t[3:, 3:] = rotation
+    stiffness[:, :] = t.T @ k @ t

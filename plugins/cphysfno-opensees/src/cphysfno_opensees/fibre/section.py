@@ -1,0 +1,109 @@
+"""Fibre sections in three dimensions: section forces and tangent from section deformations.
+
+A section's deformations are ``e = (eps0, kappa_z, kappa_y)`` (axial strain at the origin,
+curvatures about the local z and y axes, 1/m); a fibre at ``(y, z)`` strains by
+``eps0 - y kappa_z + z kappa_y`` and the section forces are ``(N, Mz, My) = sum (1, -y, z)
+sigma A`` (N, N m), as in OpenSees' ``FiberSection3d``. The fibres of a section come in
+groups of one uniaxial material each; every group's material is a module with the
+``trial(p, committed, out, strain) -> (stress, tangent)`` of :mod:`.concrete04` and
+:mod:`.steel02`, which computes a trial state from the committed one only, so that any
+number of trials may precede a commit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+
+@dataclass(frozen=True)
+class FibreGroup:
+    """Fibres of one material in a section.
+
+    Attributes:
+        y, z: ``[n]`` local coordinates of the fibres, m.
+        area: ``[n]`` fibre areas, m^2.
+        parameters: the material's parameter array (its module's ``parameters``).
+        initial_state: ``[n_state]`` the material's virgin state.
+    """
+
+    y: np.ndarray
+    z: np.ndarray
+    area: np.ndarray
+    parameters: np.ndarray
+    initial_state: np.ndarray
+
+    def states(self, *leading: int) -> np.ndarray:
+        """``[*leading, n, n_state]`` virgin states of this group in ``leading`` sections."""
+        shape = (*leading, self.y.size, self.initial_state.size)
+        return np.broadcast_to(self.initial_state, shape).copy()
+
+    def initial_tangent(self, modulus: float) -> np.ndarray:
+        """``[3, 3]`` section stiffness of these fibres at the initial ``modulus`` (Pa)."""
+        tangent = np.zeros((3, 3))
+        _add_fibres(tangent, self.y, self.z, self.area * modulus)
+        return tangent
+
+
+def _add_fibres(tangent: np.ndarray, y: np.ndarray, z: np.ndarray, ea: np.ndarray) -> None:
+    arms = np.stack([np.ones_like(y), -y, z])
+    tangent += (arms * ea) @ arms.T
+
+
+@numba.njit(cache=True, inline="always")
+def add_group(trial, p, y, z, area, committed, out, e, force, tangent):
+    """Add one group's trial forces and tangent to ``force [3]`` and ``tangent [3, 3]``
+    (upper triangle only; see :func:`symmetrise`).
+
+    Args:
+        trial: the group's material ``trial`` function.
+        p: its parameters.
+        y, z, area: ``[n]`` fibres (m, m, m^2).
+        committed: ``[n, n_state]`` committed material states (read only).
+        out: ``[n, n_state]`` the fibres' trial states, written.
+        e: ``[3]`` section deformations.
+    """
+    for f in range(y.size):
+        strain = e[0] - y[f] * e[1] + z[f] * e[2]
+        stress, modulus = trial(p, committed[f], out[f], strain)
+        fa = stress * area[f]
+        ka = modulus * area[f]
+        ky = -y[f] * ka
+        kz = z[f] * ka
+        force[0] += fa
+        force[1] -= y[f] * fa
+        force[2] += z[f] * fa
+        tangent[0, 0] += ka
+        tangent[0, 1] += ky
+        tangent[0, 2] += kz
+        tangent[1, 1] -= y[f] * ky
+        tangent[1, 2] -= y[f] * kz
+        tangent[2, 2] += z[f] * kz
+
+
+@numba.njit(cache=True, inline="always")
+def symmetrise(tangent):
+    """Copy the upper triangle of ``tangent [3, 3]`` into its lower one."""
+    tangent[1, 0] = tangent[0, 1]
+    tangent[2, 0] = tangent[0, 2]
+    tangent[2, 1] = tangent[1, 2]
+
+
+@numba.njit(cache=True, inline="always")
+def invert3(a, out):
+    """``out = inverse(a)`` for a ``[3, 3]`` matrix (by cofactors)."""
+    c00 = a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1]
+    c01 = a[1, 2] * a[2, 0] - a[1, 0] * a[2, 2]
+    c02 = a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]
+    inverse_det = 1.0 / (a[0, 0] * c00 + a[0, 1] * c01 + a[0, 2] * c02)
+    out[0, 0] = c00 * inverse_det
+    out[1, 0] = c01 * inverse_det
+    out[2, 0] = c02 * inverse_det
+    out[0, 1] = (a[0, 2] * a[2, 1] - a[0, 1] * a[2, 2]) * inverse_det
+    out[1, 1] = (a[0, 0] * a[2, 2] - a[0, 2] * a[2, 0]) * inverse_det
+    out[2, 1] = (a[0, 1] * a[2, 0] - a[0, 0] * a[2, 1]) * inverse_det
+    out[0, 2] = (a[0, 1] * a[1, 2] - a[0, 2] * a[1, 1]) * inverse_det
+    out[1, 2] = (a[0, 2] * a[1, 0] - a[0, 0] * a[1, 2]) * inverse_det
+    out[2, 2] = (a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]) * inverse_det
