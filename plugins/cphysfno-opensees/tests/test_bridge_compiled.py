@@ -45,8 +45,8 @@ def test_columns_and_linear_elements_make_the_initial_stiffness_opensees_assembl
     q, kv = state.element[1], state.element[2]
     for c, top in enumerate(compiled.tops):
         columns = compiled.columns
-        top_response(columns.rotations[c], columns.lengths[c], np.zeros(6), q[c], kv[c],
-                     force, tangent)  # fmt: skip
+        top_response(columns.chords[c], columns.drifts[c], np.zeros(6), q[c], kv[c],
+                     force, tangent, np.empty((6, 6)))  # fmt: skip
         stiffness[np.ix_(top, top)] += tangent
     scale = np.abs(compiled.initial_stiffness).max()
     assert np.abs(stiffness - compiled.initial_stiffness).max() < 1e-12 * scale
@@ -66,17 +66,27 @@ def test_gravity_brings_the_columns_to_the_state_opensees_finds(compiled):
 
 
 def test_a_strong_record_takes_the_same_course_as_in_opensees(compiled, strong):
+    """With the element iterating to convergence at every Newton iteration, as OpenSees'
+    element does, the iterates are OpenSees' own; the default (one element iteration per
+    Newton iteration) reaches an equally converged answer by another path. The brittle
+    cracking of the concrete makes the answer sensitive at the 1e-4 level to how it is
+    reached: OpenSees' own scheme with the tolerance 1e-9 m instead of 1e-6 m moves it by
+    7e-5 on this record."""
     acceleration, dt = strong
-    mine = analyse_compiled(compiled, BRIDGE.numerics, BRIDGE.damping, acceleration, dt)
+    iterative = dataclasses.replace(BRIDGE.numerics, iterative_elements=True)
+    mine = analyse_compiled(compiled, iterative, BRIDGE.damping, acceleration, dt)
+    default = analyse_compiled(compiled, BRIDGE.numerics, BRIDGE.damping, acceleration, dt)
     theirs = analyse(BRIDGE.design, BRIDGE.numerics, BRIDGE.damping, "fibre", None,
                      acceleration, dt)  # fmt: skip
     elastic = analyse(BRIDGE.design, BRIDGE.numerics, BRIDGE.damping, "elastic",
                       BRIDGE.elastic_section, acceleration, dt)  # fmt: skip
     # OpenSees' analysis time overshoots the record's end by a rounding error at the last
     # step, where its path series then applies no ground motion: compare up to there
-    mine, theirs, elastic = mine[:-1], theirs[:-1], elastic[:-1]
+    mine, default, theirs, elastic = mine[:-1], default[:-1], theirs[:-1], elastic[:-1]
     error = np.linalg.norm(mine - theirs, axis=0) / np.linalg.norm(theirs, axis=0)
     assert error.max() < 1e-7, error
+    error = np.linalg.norm(default - theirs, axis=0) / np.linalg.norm(theirs, axis=0)
+    assert error.max() < 5e-4, error
     nonlinearity = np.linalg.norm(elastic - theirs, axis=0) / np.linalg.norm(theirs, axis=0)
     assert nonlinearity.min() > 0.05  # the record does take the columns past their linear range
 
@@ -96,13 +106,14 @@ def test_the_bridge_structure_runs_the_compiled_engine_by_default(strong):
     assert AuburnRavineBridge().params.engine == "compiled"
     default, opensees = default[0, :-1], opensees[0, :-1]  # the last sample: see above
     error = np.linalg.norm(default - opensees, axis=0) / np.linalg.norm(opensees, axis=0)
-    assert error.max() < 1e-7, error
+    assert error.max() < 5e-4, error
 
 
 def test_steps_that_need_more_iterations_than_allowed_are_split_and_recover(compiled, strong):
     acceleration, dt = strong
-    full = analyse_compiled(compiled, BRIDGE.numerics, BRIDGE.damping, acceleration, dt)
-    short = dataclasses.replace(BRIDGE.numerics, max_iterations=2)
+    iterative = dataclasses.replace(BRIDGE.numerics, iterative_elements=True)
+    full = analyse_compiled(compiled, iterative, BRIDGE.damping, acceleration, dt)
+    short = dataclasses.replace(iterative, max_iterations=2)
     split = analyse_compiled(compiled, short, BRIDGE.damping, acceleration, dt)
     error = np.linalg.norm(split - full, axis=0) / np.linalg.norm(full, axis=0)
     # the split steps integrate on a finer grid: close to, but not the same as, the rest

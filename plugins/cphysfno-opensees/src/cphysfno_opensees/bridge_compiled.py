@@ -22,7 +22,7 @@ from .bridge_linear import TRANSVERSE, Rayleigh, _tangent
 from .bridge_model import Numerics, build, section_fibres, shear_and_torsion_stiffness
 from .fibre import concrete04, steel02
 from .fibre.dynamics import SPLITS, Partition, newmark, static_steps
-from .fibre.rc_column import Columns, ColumnState, lobatto
+from .fibre.rc_column import ELEMENT_ITERATIONS, Columns, ColumnState, lobatto
 from .fibre.section import FibreGroup
 from .loader import import_opensees
 from .transient import AnalysisFailed
@@ -157,7 +157,8 @@ def compile_bridge(ops: Any, design: BridgeDesign, numerics: Numerics) -> Compil
 def _columns_tuple(columns: Columns) -> tuple:
     return (
         columns.lengths,
-        columns.rotations,
+        columns.chords,
+        columns.drifts,
         columns.locations,
         columns.weights,
         columns.elastic_flexibility,
@@ -177,7 +178,7 @@ def at_rest_under_gravity(bridge: CompiledBridge) -> tuple[np.ndarray, ColumnSta
     ok = static_steps(
         bridge.gravity, GRAVITY_STEPS, bridge.stiffness, u, partition.arrays(),
         _columns_tuple(bridge.columns), _state_tuple(state),
-        (GRAVITY_TOLERANCE, 50, np.zeros(2, dtype=np.int64)),
+        (GRAVITY_TOLERANCE, 50, True, ELEMENT_ITERATIONS, np.zeros(2, dtype=np.int64)),
     )  # fmt: skip
     if not ok:
         raise RuntimeError("the bridge does not carry its own weight: check the design")
@@ -235,7 +236,8 @@ def analyse_compiled(
     out, failed = newmark(
         fine[1:], step, bridge.outputs, linear, motion, partitions,
         _columns_tuple(bridge.columns), _state_tuple(state),
-        (numerics.tolerance, numerics.max_iterations, counts),
+        (numerics.tolerance, numerics.max_iterations, numerics.final_update,
+         ELEMENT_ITERATIONS if numerics.iterative_elements else 1, counts),
     )  # fmt: skip
     if failed >= 0:
         raise AnalysisFailed(failed * step, "Newton at dt and at dt/2, dt/4, dt/8")

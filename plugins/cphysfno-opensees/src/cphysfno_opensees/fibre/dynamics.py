@@ -19,6 +19,7 @@ import numba
 import numpy as np
 
 from .rc_column import (
+    basic_deformation,
     commit_columns,
     copy_element,
     revert_columns,
@@ -70,29 +71,22 @@ class Partition:
 
 
 @numba.njit(cache=True)
-def _update_all(columns, state, u_top, v_basic, counts):
-    lengths, rotations, locations, weights, flexibility, fibres = columns
+def _update_all(columns, state, u_top, v_basic, limit, counts):
+    """Bring every column to its top's displacements ``u_top [c, 6]``; returns 1 if all
+    of them converged and 0 if some stopped at ``limit`` element iterations."""
+    lengths, chords, drifts, locations, weights, flexibility, fibres = columns
     element, committed, materials, current = state
+    outcome = 1
     for c in range(lengths.size):
-        top = u_top[c]
-        local = np.empty(6)
-        local[:3] = rotations[c] @ top[:3]
-        local[3:] = rotations[c] @ top[3:]
-        length = lengths[c]
-        v_basic[0] = local[0]
-        v_basic[1] = -local[1] / length
-        v_basic[2] = local[5] - local[1] / length
-        v_basic[3] = local[2] / length
-        v_basic[4] = local[4] + local[2] / length
-        v_basic[5] = local[3]
+        basic_deformation(chords[c], u_top[c], v_basic)
         iterations = update_column(
-            c, v_basic, length, locations, weights, flexibility[c], fibres, element,
-            materials, current,
+            c, v_basic, lengths[c], locations, weights, flexibility[c], fibres, element,
+            materials, current, limit,
         )  # fmt: skip
+        counts[1] += abs(iterations)
         if iterations < 0:
-            return False
-        counts[1] += iterations
-    return True
+            outcome = 0
+    return outcome
 
 
 @numba.njit(cache=True)
@@ -100,13 +94,18 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
     """Newton iterations for ``A d + f(u_start + d) = rhs`` (``A`` the partition's
     matrix); returns ``(converged, d)``. The columns' trial states follow the iterates.
 
-    ``solver = (tolerance, max_iterations, counts)``: the tolerance on the increment's
-    2-norm, the iterations allowed, and ``counts [2]`` to which the Newton and the element
-    iterations taken are added.
+    ``solver = (tolerance, max_iterations, final_update, element_limit, counts)``: the
+    tolerance on the correction's 2-norm; the iterations allowed; whether a correction
+    below the tolerance is still applied and the columns evaluated there (OpenSees'
+    ``NormDispIncr``) or the iteration stops before it (one column evaluation fewer, the
+    answer moved by less than the tolerance); the element iterations per column and
+    Newton iteration (1: the elements converge along with the structure, which then also
+    waits for them); and ``counts [2]`` to which the Newton and the element iterations
+    taken are added.
     """
-    tolerance, max_iterations, counts = solver
+    tolerance, max_iterations, final_update, element_limit, counts = solver
     interior, boundary, solve_interior, coupling, boundary_rows, schur = partition
-    lengths, rotations = columns[0], columns[1]
+    lengths, chords, drifts = columns[0], columns[1], columns[2]
     element = state[0]
     q, kv = element[1], element[2]
     n_columns = lengths.size
@@ -118,8 +117,10 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
     u_top = np.empty((n_columns, 6))
     force = np.empty(6)
     stiffness = np.empty((6, 6))
+    work = np.empty((6, 6))
     v_basic = np.empty(6)
     converged = False
+    elements_converged = True
     for _ in range(max_iterations):
         counts[0] += 1
         for c in range(n_columns):
@@ -128,20 +129,26 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
         residual = g - schur @ d_b
         tangent = schur.copy()
         for c in range(n_columns):
-            top_response(rotations[c], lengths[c], u_top[c], q[c], kv[c], force, stiffness)
+            top_response(chords[c], drifts[c], u_top[c], q[c], kv[c], force, stiffness, work)
             for k in range(6):
                 residual[6 * c + k] -= force[k]
                 for m in range(6):
                     tangent[6 * c + k, 6 * c + m] += stiffness[k, m]
         step = np.linalg.solve(tangent, residual)
+        interior_step = coupling @ step
+        small = np.sqrt(step @ step + interior_step @ interior_step) <= tolerance
+        if small and not final_update and elements_converged:
+            converged = True
+            break
         d_b += step
         for c in range(n_columns):
             for k in range(6):
                 u_top[c, k] = u_start[boundary[c, k]] + d_b[6 * c + k]
-        if not _update_all(columns, state, u_top, v_basic, counts):
+        outcome = _update_all(columns, state, u_top, v_basic, element_limit, counts)
+        if outcome == 0 and element_limit > 1:
             break
-        interior_step = coupling @ step
-        if np.sqrt(step @ step + interior_step @ interior_step) <= tolerance:
+        elements_converged = outcome == 1
+        if small and elements_converged:
             converged = True
             break
     d = np.empty(rhs.size)

@@ -20,7 +20,7 @@ import numba
 import numpy as np
 
 from . import concrete04, steel02
-from .section import FibreGroup, add_group, invert3, symmetrise
+from .section import FibreGroup, add_group, invert, invert3, symmetrise
 
 ELEMENT_TOLERANCE = 1e-12
 """OpenSees' default energy tolerance of the element state determination, J."""
@@ -54,6 +54,9 @@ class Columns:
         weights: ``[s]`` integration weights (summing to 1).
         shear_stiffness: GA of each of ``Vy`` and ``Vz``, N.
         torsional_stiffness: GJ, N m^2.
+        elastic_flexibility: ``[c, 6, 6]`` basic flexibility of shear and torsion.
+        chords: ``[c, 6, 6]`` :func:`chord_map` of each column.
+        drifts: ``[c, 3, 3]`` :func:`drift_map` of each column.
     """
 
     core: FibreGroup
@@ -66,6 +69,8 @@ class Columns:
     shear_stiffness: float
     torsional_stiffness: float
     elastic_flexibility: np.ndarray = field(init=False)
+    chords: np.ndarray = field(init=False)
+    drifts: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
         flexibility = np.zeros((self.lengths.size, 6, 6))
@@ -75,6 +80,12 @@ class Columns:
             flexibility[c, 3:5, 3:5] = shear
             flexibility[c, 5, 5] = length / self.torsional_stiffness
         object.__setattr__(self, "elastic_flexibility", flexibility)
+        pairs = zip(self.lengths, self.rotations, strict=True)
+        chords = np.array([chord_map(length, rotation) for length, rotation in pairs])
+        pairs = zip(self.lengths, self.rotations, strict=True)
+        drifts = np.array([drift_map(length, rotation) for length, rotation in pairs])
+        object.__setattr__(self, "chords", chords)
+        object.__setattr__(self, "drifts", drifts)
 
     @property
     def count(self) -> int:
@@ -182,18 +193,27 @@ def _section(fibres, committed, trial, e, force, tangent):
 
 @numba.njit(cache=True)
 def update_column(
-    c, v, length, locations, weights, elastic_flexibility, fibres, element, materials, current
-):
+    c, v, length, locations, weights, elastic_flexibility, fibres, element, materials, current,
+    limit,
+):  # fmt: skip
     """Bring column ``c`` to the basic deformations ``v [6]``.
 
     The trial element state (``element``, see :class:`ColumnState`) is advanced in place
     from its last trial value; the fibres are evaluated from their committed states
-    (``materials`` buffers ``current``). Returns the element iterations taken, negative if
-    the state determination did not converge.
+    (``materials`` buffers ``current``). At most ``limit`` element iterations: returns
+    the number taken if the element's compatibility converged, minus it if not; the state
+    reached is kept either way (with ``limit = 1`` the element iterates along with the
+    structure's Newton iterations, as in Neuenhofer and Filippou's non-iterative form).
     """
     vt, q, kv, e, s, fs = element
-    dv = v - vt[c]
-    q_trial = q[c] + kv[c] @ dv
+    q_trial = np.empty(6)
+    for m in range(6):
+        total = q[c, m]
+        for n in range(6):
+            total += kv[c, m, n] * (v[n] - vt[c, n])
+        q_trial[m] = total
+    dv_residual = np.empty(6)
+    work = np.empty((6, 6))
     target = np.empty(3)
     residual = np.empty(3)
     increment = np.empty(3)
@@ -204,9 +224,13 @@ def update_column(
     k = current[c]
     committed = (materials[0][k, c], materials[1][k, c], materials[2][k, c])
     trial = (materials[0][1 - k, c], materials[1][1 - k, c], materials[2][1 - k, c])
-    for iteration in range(1, ELEMENT_ITERATIONS + 1):
-        flexibility[:, :] = elastic_flexibility
-        vr[:] = elastic_flexibility @ q_trial
+    for iteration in range(1, limit + 1):
+        for m in range(6):
+            total = 0.0
+            for n in range(6):
+                flexibility[m, n] = elastic_flexibility[m, n]
+                total += elastic_flexibility[m, n] * q_trial[n]
+            vr[m] = total
         for i in range(locations.size):
             xi = locations[i]
             wl = weights[i] * length
@@ -244,15 +268,24 @@ def update_column(
                 vr[m] += wl * b[m] * increment[ROW[m]]
                 for n in range(5):
                     flexibility[m, n] += wl * b[m] * fs[c, i, ROW[m], ROW[n]] * b[n]
-        kv[c] = np.linalg.inv(flexibility)
-        dv_residual = v - vr
-        dq = kv[c] @ dv_residual
-        q_trial += dq
-        if abs(dv_residual @ dq) < ELEMENT_TOLERANCE:
+        if not invert(flexibility, kv[c], work):
+            return -limit
+        work_done = 0.0
+        for m in range(6):
+            dv_residual[m] = v[m] - vr[m]
+        for m in range(6):
+            dq = 0.0
+            for n in range(6):
+                dq += kv[c, m, n] * dv_residual[n]
+            q_trial[m] += dq
+            work_done += dv_residual[m] * dq
+        if abs(work_done) < ELEMENT_TOLERANCE:
             q[c] = q_trial
             vt[c] = v
             return iteration
-    return -1
+    q[c] = q_trial
+    vt[c] = v
+    return -limit
 
 
 @numba.njit(cache=True)
@@ -282,49 +315,67 @@ def revert_columns(element, committed):
     copy_element(committed, element)
 
 
-@numba.njit(cache=True)
-def chord_map(length):
-    """``[6, 6]`` map from the top's local displacements and rotations ``(ux, uy, uz, rx,
-    ry, rz)`` to the basic deformations, the base being fixed (OpenSees' linear and
-    P-Delta transformations)."""
-    a = np.zeros((6, 6))
-    a[0, 0] = 1.0
-    a[1, 1] = -1.0 / length
-    a[2, 1] = -1.0 / length
-    a[2, 5] = 1.0
-    a[3, 2] = 1.0 / length
-    a[4, 2] = 1.0 / length
-    a[4, 4] = 1.0
-    a[5, 3] = 1.0
-    return a
+def chord_map(length: float, rotation: np.ndarray) -> np.ndarray:
+    """``[6, 6]`` map from the top's global displacements and rotations to the basic
+    deformations of a column of ``length`` (m) with local axes ``rotation [3, 3]``, its
+    base fixed (OpenSees' linear and P-Delta transformations)."""
+    basic = np.zeros((6, 6))  # from the top's local (ux, uy, uz, rx, ry, rz)
+    basic[0, 0] = 1.0
+    basic[1, 1] = basic[2, 1] = -1.0 / length
+    basic[2, 5] = 1.0
+    basic[3, 2] = basic[4, 2] = 1.0 / length
+    basic[4, 4] = 1.0
+    basic[5, 3] = 1.0
+    to_local = np.zeros((6, 6))
+    to_local[:3, :3] = to_local[3:, 3:] = rotation
+    return basic @ to_local
+
+
+def drift_map(length: float, rotation: np.ndarray) -> np.ndarray:
+    """``[3, 3]`` the top's lateral drift over the length (1/m) from its global
+    translation: the P-Delta force is the axial force times it."""
+    lateral = rotation[1:]
+    return lateral.T @ lateral / length
 
 
 @numba.njit(cache=True)
-def local_top(rotation, top):
-    """``[6]`` the top's displacements and rotations ``top [6]`` in local axes."""
-    out = np.empty(6)
-    out[:3] = rotation @ top[:3]
-    out[3:] = rotation @ top[3:]
-    return out
+def basic_deformation(chord, top, v):
+    """``v [6] = chord [6, 6] @ top [6]``: basic deformations from the top's motion."""
+    for m in range(6):
+        total = 0.0
+        for k in range(6):
+            total += chord[m, k] * top[k]
+        v[m] = total
 
 
 @numba.njit(cache=True)
-def top_response(rotation, length, top, q, kv, force, stiffness):
+def top_response(chord, drift, top, q, kv, force, stiffness, work):
     """Global force ``[6]`` and tangent ``[6, 6]`` that a column with basic forces ``q``
-    and basic stiffness ``kv`` exerts on its top, displaced by ``top [6]`` (global),
-    with OpenSees' P-Delta terms (the axial force times the chord's lateral drift over L)."""
-    a = chord_map(length)
-    local = local_top(rotation, top)
-    axial_over_length = q[0] / length
-    p = a.T @ q
-    p[1] += axial_over_length * local[1]
-    p[2] += axial_over_length * local[2]
-    k = a.T @ kv @ a
-    k[1, 1] += axial_over_length
-    k[2, 2] += axial_over_length
-    force[:3] = rotation.T @ p[:3]
-    force[3:] = rotation.T @ p[3:]
-    t = np.zeros((6, 6))
-    t[:3, :3] = rotation
-    t[3:, 3:] = rotation
-    stiffness[:, :] = t.T @ k @ t
+    and basic stiffness ``kv`` exerts on its top, displaced by ``top [6]`` (global):
+    ``chord^T q`` and ``chord^T kv chord``, with OpenSees' P-Delta terms (the axial force
+    times ``drift [3, 3]`` of :func:`drift_map`; no derivative of the axial force).
+    ``work [6, 6]`` is scratch."""
+    axial = q[0]
+    for k in range(6):
+        total = 0.0
+        for m in range(6):
+            total += chord[m, k] * q[m]
+        force[k] = total
+    for k in range(3):
+        for j in range(3):
+            force[k] += axial * drift[k, j] * top[j]
+    for m in range(6):
+        for k in range(6):
+            total = 0.0
+            for n in range(6):
+                total += kv[m, n] * chord[n, k]
+            work[m, k] = total
+    for k in range(6):
+        for j in range(6):
+            total = 0.0
+            for m in range(6):
+                total += chord[m, k] * work[m, j]
+            stiffness[k, j] = total
+    for k in range(3):
+        for j in range(3):
+            stiffness[k, j] += axial * drift[k, j]

@@ -107,3 +107,37 @@ def invert3(a, out):
     out[0, 2] = (a[0, 1] * a[1, 2] - a[0, 2] * a[1, 1]) * inverse_det
     out[1, 2] = (a[0, 2] * a[1, 0] - a[0, 0] * a[1, 2]) * inverse_det
     out[2, 2] = (a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]) * inverse_det
+
+
+@numba.njit(cache=True)
+def invert(a, out, work):
+    """``out = inverse(a)`` for a small ``[n, n]`` matrix by Gauss-Jordan elimination with
+    partial pivoting; ``work [n, n]`` is scratch. Returns False if ``a`` is singular."""
+    n = a.shape[0]
+    work[:, :] = a
+    out[:, :] = 0.0
+    for i in range(n):
+        out[i, i] = 1.0
+    for col in range(n):
+        pivot = col
+        for row in range(col + 1, n):
+            if abs(work[row, col]) > abs(work[pivot, col]):
+                pivot = row
+        if work[pivot, col] == 0.0:
+            return False
+        if pivot != col:
+            for k in range(n):
+                work[col, k], work[pivot, k] = work[pivot, k], work[col, k]
+                out[col, k], out[pivot, k] = out[pivot, k], out[col, k]
+        scale = 1.0 / work[col, col]
+        for k in range(n):
+            work[col, k] *= scale
+            out[col, k] *= scale
+        for row in range(n):
+            if row != col:
+                factor = work[row, col]
+                if factor != 0.0:
+                    for k in range(n):
+                        work[row, k] -= factor * work[col, k]
+                        out[row, k] -= factor * out[col, k]
+    return True
