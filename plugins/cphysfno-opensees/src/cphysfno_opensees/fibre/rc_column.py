@@ -176,18 +176,28 @@ class ColumnState:
         return self.element[1]
 
 
-@numba.njit(cache=True)
-def _section(fibres, committed, trial, e, force, tangent):
-    """Trial forces and tangent of one section at deformations ``e``; ``committed`` and
-    ``trial`` hold the (core, cover, bars) fibre states of the section."""
+@numba.njit(cache=True, inline="always")
+def _section(fibres, materials, committed, c, i, e, force, tangent):
+    """Trial forces and tangent of section ``i`` of column ``c`` at deformations ``e``:
+    fibres evaluated from the buffer ``committed`` of ``materials``, their trial states
+    written to the other one."""
     force[:] = 0.0
     tangent[:, :] = 0.0
+    other = 1 - committed
+    core, cover, bars = materials
     p, y, z, a = fibres[0], fibres[1], fibres[2], fibres[3]
-    add_group(concrete04.trial, p, y, z, a, committed[0], trial[0], e, force, tangent)
+    add_group(
+        concrete04.trial, p, y, z, a, core[committed, c, i], core[other, c, i], e, force, tangent
+    )
     p, y, z, a = fibres[4], fibres[5], fibres[6], fibres[7]
-    add_group(concrete04.trial, p, y, z, a, committed[1], trial[1], e, force, tangent)
+    add_group(
+        concrete04.trial, p, y, z, a, cover[committed, c, i], cover[other, c, i], e, force,
+        tangent,
+    )  # fmt: skip
     p, y, z, a = fibres[8], fibres[9], fibres[10], fibres[11]
-    add_group(steel02.trial, p, y, z, a, committed[2], trial[2], e, force, tangent)
+    add_group(
+        steel02.trial, p, y, z, a, bars[committed, c, i], bars[other, c, i], e, force, tangent
+    )
     symmetrise(tangent)
 
 
@@ -222,8 +232,6 @@ def update_column(
     vr = np.empty(6)
     b = np.ones(5)
     k = current[c]
-    committed = (materials[0][k, c], materials[1][k, c], materials[2][k, c])
-    trial = (materials[0][1 - k, c], materials[1][1 - k, c], materials[2][1 - k, c])
     for iteration in range(1, limit + 1):
         for m in range(6):
             total = 0.0
@@ -245,10 +253,7 @@ def update_column(
                     + fs[c, i, a, 1] * residual[1]
                     + fs[c, i, a, 2] * residual[2]
                 )
-            _section(
-                fibres, (committed[0][i], committed[1][i], committed[2][i]),
-                (trial[0][i], trial[1][i], trial[2][i]), e[c, i], s[c, i], tangent,
-            )  # fmt: skip
+            _section(fibres, materials, k, c, i, e[c, i], s[c, i], tangent)
             invert3(tangent, fs[c, i])
             # the deformations the section would need to carry the target forces
             for a in range(3):
