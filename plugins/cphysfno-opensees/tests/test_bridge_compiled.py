@@ -15,6 +15,7 @@ from cphysfno_opensees.bridge_compiled import (
     compile_bridge,
 )
 from cphysfno_opensees.bridge_model import build
+from cphysfno_opensees.fibre.dynamics import cholesky_solve
 from cphysfno_opensees.fibre.rc_column import top_response
 from cphysfno_opensees.loader import import_opensees
 from cphysfno_opensees.transient import AnalysisFailed
@@ -118,3 +119,16 @@ def test_steps_that_need_more_iterations_than_allowed_are_split_and_recover(comp
     error = np.linalg.norm(split - full, axis=0) / np.linalg.norm(full, axis=0)
     # the split steps integrate on a finer grid: close to, but not the same as, the rest
     assert 1e-4 < error.max() < 2e-2, error
+
+
+def test_cholesky_solves_positive_definite_systems_and_hands_back_the_rest():
+    rng = np.random.default_rng(0)
+    factor = rng.standard_normal((8, 8))
+    spd, rhs = factor @ factor.T + 8.0 * np.eye(8), rng.standard_normal(8)
+    x = np.empty(8)
+    assert cholesky_solve(spd.copy(), rhs, x)
+    assert np.allclose(spd @ x, rhs, rtol=0.0, atol=1e-12)
+    indefinite = spd - 30.0 * np.eye(8)
+    matrix = indefinite.copy()
+    assert not cholesky_solve(matrix, rhs, x)
+    assert np.array_equal(matrix, indefinite)  # left as it was, for a general solver

@@ -22,11 +22,20 @@ from .bridge_linear import TRANSVERSE, Rayleigh, _tangent
 from .bridge_model import Numerics, build, section_fibres, shear_and_torsion_stiffness
 from .fibre import concrete04, steel02
 from .fibre.dynamics import SPLITS, Partition, newmark, static_steps
-from .fibre.rc_column import ELEMENT_ITERATIONS, Columns, ColumnState, lobatto
+from .fibre.rc_column import (
+    COMPATIBILITY_TOLERANCE,
+    ELEMENT_ITERATIONS,
+    ELEMENT_TOLERANCE,
+    Columns,
+    ColumnState,
+    lobatto,
+)
 from .fibre.section import FibreGroup
 from .loader import import_opensees
 from .transient import AnalysisFailed
 
+ITERATIVE = (ELEMENT_ITERATIONS, ELEMENT_TOLERANCE)
+NON_ITERATIVE = (1, COMPATIBILITY_TOLERANCE)
 GRAVITY_STEPS = 10
 """Load steps of the gravity analysis (as in :func:`.bridge_model.apply_gravity`)."""
 GRAVITY_TOLERANCE = 1e-12
@@ -178,7 +187,7 @@ def at_rest_under_gravity(bridge: CompiledBridge) -> tuple[np.ndarray, ColumnSta
     ok = static_steps(
         bridge.gravity, GRAVITY_STEPS, bridge.stiffness, u, partition.arrays(),
         _columns_tuple(bridge.columns), _state_tuple(state),
-        (GRAVITY_TOLERANCE, 50, True, ELEMENT_ITERATIONS, np.zeros(2, dtype=np.int64)),
+        (GRAVITY_TOLERANCE, 50, True, ITERATIVE, np.zeros(2, dtype=np.int64)),
     )  # fmt: skip
     if not ok:
         raise RuntimeError("the bridge does not carry its own weight: check the design")
@@ -237,7 +246,7 @@ def analyse_compiled(
         fine[1:], step, bridge.outputs, linear, motion, partitions,
         _columns_tuple(bridge.columns), _state_tuple(state),
         (numerics.tolerance, numerics.max_iterations, numerics.final_update,
-         ELEMENT_ITERATIONS if numerics.iterative_elements else 1, counts),
+         ITERATIVE if numerics.iterative_elements else NON_ITERATIVE, counts),
     )  # fmt: skip
     if failed >= 0:
         raise AnalysisFailed(failed * step, "Newton at dt and at dt/2, dt/4, dt/8")

@@ -71,9 +71,10 @@ class Partition:
 
 
 @numba.njit(cache=True)
-def _update_all(columns, state, u_top, v_basic, limit, counts):
+def _update_all(columns, state, u_top, v_basic, limit, tolerance, counts):
     """Bring every column to its top's displacements ``u_top [c, 6]``; returns 1 if all
-    of them converged and 0 if some stopped at ``limit`` element iterations."""
+    of them converged (see :func:`update_column`) and 0 if some stopped at ``limit``
+    element iterations."""
     lengths, chords, drifts, locations, weights, flexibility, fibres = columns
     element, committed, materials, current = state
     outcome = 1
@@ -81,7 +82,7 @@ def _update_all(columns, state, u_top, v_basic, limit, counts):
         basic_deformation(chords[c], u_top[c], v_basic)
         iterations = update_column(
             c, v_basic, lengths[c], locations, weights, flexibility[c], fibres, element,
-            materials, current, limit,
+            materials, current, limit, tolerance,
         )  # fmt: skip
         counts[1] += abs(iterations)
         if iterations < 0:
@@ -90,20 +91,59 @@ def _update_all(columns, state, u_top, v_basic, limit, counts):
 
 
 @numba.njit(cache=True)
+def cholesky_solve(a, b, x):
+    """Solve ``a x = b`` for a symmetric positive definite ``a [n, n]``, its lower
+    triangle overwritten with the Cholesky factor. False if ``a`` is not positive
+    definite: then ``x`` is undefined and ``a`` is symmetrised from its upper triangle."""
+    n = b.size
+    diagonal = np.diag(a).copy()
+    for j in range(n):
+        d = a[j, j]
+        for k in range(j):
+            d -= a[j, k] * a[j, k]
+        if not d > 0.0:
+            for i in range(n):
+                a[i, i] = diagonal[i]
+                for k in range(i):
+                    a[i, k] = a[k, i]
+            return False
+        d = np.sqrt(d)
+        a[j, j] = d
+        for i in range(j + 1, n):
+            t = a[i, j]
+            for k in range(j):
+                t -= a[i, k] * a[j, k]
+            a[i, j] = t / d
+    for i in range(n):
+        t = b[i]
+        for j in range(i):
+            t -= a[i, j] * x[j]
+        x[i] = t / a[i, i]
+    for i in range(n - 1, -1, -1):
+        t = x[i]
+        for j in range(i + 1, n):
+            t -= a[j, i] * x[j]
+        x[i] = t / a[i, i]
+    return True
+
+
+@numba.njit(cache=True)
 def solve_increment(rhs, u_start, partition, columns, state, solver):
     """Newton iterations for ``A d + f(u_start + d) = rhs`` (``A`` the partition's
     matrix); returns ``(converged, d)``. The columns' trial states follow the iterates.
 
-    ``solver = (tolerance, max_iterations, final_update, element_limit, counts)``: the
-    tolerance on the correction's 2-norm; the iterations allowed; whether a correction
-    below the tolerance is still applied and the columns evaluated there (OpenSees'
-    ``NormDispIncr``) or the iteration stops before it (one column evaluation fewer, the
-    answer moved by less than the tolerance); the element iterations per column and
-    Newton iteration (1: the elements converge along with the structure, which then also
-    waits for them); and ``counts [2]`` to which the Newton and the element iterations
-    taken are added.
+    ``solver = (tolerance, max_iterations, final_update, (element_limit,
+    element_tolerance), counts)``: the tolerance on the correction's 2-norm; the
+    iterations allowed; whether a correction below the tolerance is still applied and the
+    columns evaluated there (OpenSees' ``NormDispIncr``) or the iteration stops before it
+    (one column evaluation fewer, the answer moved by less than the tolerance); the
+    element iterations per column and Newton iteration (1: the elements converge along
+    with the structure, which then also waits for them) and the elements' energy
+    tolerance, J; and ``counts [2]`` to which the Newton and the element iterations taken
+    are added.
     """
-    tolerance, max_iterations, final_update, element_limit, counts = solver
+    tolerance, max_iterations, final_update, elements, counts = solver
+    element_limit, element_tolerance = elements
     interior, boundary, solve_interior, coupling, boundary_rows, schur = partition
     lengths, chords, drifts = columns[0], columns[1], columns[2]
     element = state[0]
@@ -134,7 +174,9 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
                 residual[6 * c + k] -= force[k]
                 for m in range(6):
                     tangent[6 * c + k, 6 * c + m] += stiffness[k, m]
-        step = np.linalg.solve(tangent, residual)
+        step = np.empty(n_b)
+        if not cholesky_solve(tangent, residual, step):
+            step = np.linalg.solve(tangent, residual)
         interior_step = coupling @ step
         small = np.sqrt(step @ step + interior_step @ interior_step) <= tolerance
         if small and not final_update and elements_converged:
@@ -144,7 +186,9 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
         for c in range(n_columns):
             for k in range(6):
                 u_top[c, k] = u_start[boundary[c, k]] + d_b[6 * c + k]
-        outcome = _update_all(columns, state, u_top, v_basic, element_limit, counts)
+        outcome = _update_all(
+            columns, state, u_top, v_basic, element_limit, element_tolerance, counts
+        )
         if outcome == 0 and element_limit > 1:
             break
         elements_converged = outcome == 1

@@ -65,22 +65,30 @@ def add_group(trial, p, y, z, area, committed, out, e, force, tangent):
         out: ``[n, n_state]`` the fibres' trial states, written.
         e: ``[3]`` section deformations.
     """
+    # sums in scalars: the stores of the trial states could alias the arrays
+    e0, e1, e2 = e[0], e[1], e[2]
+    f0, f1, f2 = force[0], force[1], force[2]
+    k00, k01, k02 = tangent[0, 0], tangent[0, 1], tangent[0, 2]
+    k11, k12, k22 = tangent[1, 1], tangent[1, 2], tangent[2, 2]
     for f in range(y.size):
-        strain = e[0] - y[f] * e[1] + z[f] * e[2]
-        stress, modulus = trial(p, committed[f], out[f], strain)
+        yf, zf = y[f], z[f]
+        stress, modulus = trial(p, committed[f], out[f], e0 - yf * e1 + zf * e2)
         fa = stress * area[f]
         ka = modulus * area[f]
-        ky = -y[f] * ka
-        kz = z[f] * ka
-        force[0] += fa
-        force[1] -= y[f] * fa
-        force[2] += z[f] * fa
-        tangent[0, 0] += ka
-        tangent[0, 1] += ky
-        tangent[0, 2] += kz
-        tangent[1, 1] -= y[f] * ky
-        tangent[1, 2] -= y[f] * kz
-        tangent[2, 2] += z[f] * kz
+        ky = -yf * ka
+        kz = zf * ka
+        f0 += fa
+        f1 -= yf * fa
+        f2 += zf * fa
+        k00 += ka
+        k01 += ky
+        k02 += kz
+        k11 -= yf * ky
+        k12 -= yf * kz
+        k22 += zf * kz
+    force[0], force[1], force[2] = f0, f1, f2
+    tangent[0, 0], tangent[0, 1], tangent[0, 2] = k00, k01, k02
+    tangent[1, 1], tangent[1, 2], tangent[2, 2] = k11, k12, k22
 
 
 @numba.njit(cache=True, inline="always")

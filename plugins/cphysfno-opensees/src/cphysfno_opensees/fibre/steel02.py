@@ -49,6 +49,10 @@ SIG_R = 9  # stress at the last reversal [Pa] (sigr)
 KON = 10  # 0 virgin, 1 loading, 2 unloading, 3 virgin after a null first step (kon)
 N_STATE = 11
 
+# ln of a term surely too small to change 1.0 when added to it (below 2^-53, with a margin
+# for the rounding of the logarithm): the Menegotto-Pinto powers are then exactly 1.
+_NEGLIGIBLE_LOG = -53.0 * math.log(2.0) - 1e-6
+
 # OpenSees treats a first strain increment below this (DBL_EPSILON * 10) as no increment.
 _NULL_INCREMENT = 10.0 * np.finfo(np.float64).eps
 
@@ -231,8 +235,13 @@ def _curve(eps, epspl, epss0, sigs0, epsr, sigr, kon, e0, b, r0, cr1, cr2, epsy)
     xi = abs((epspl - epss0) / epsy)
     r = r0 * (1.0 - (cr1 * xi) / (cr2 + xi))
     epsrat = (eps - epsr) / (epss0 - epsr)
-    dum1 = 1.0 + abs(epsrat) ** r
-    dum2 = dum1 ** (1.0 / r)
+    if epsrat == 0.0 or r * math.log(abs(epsrat)) < _NEGLIGIBLE_LOG:
+        # |epsrat|^r is below half an ulp of 1: both powers round to exactly 1
+        dum1 = 1.0
+        dum2 = 1.0
+    else:
+        dum1 = 1.0 + abs(epsrat) ** r
+        dum2 = dum1 ** (1.0 / r)
 
     sig = b * epsrat + (1.0 - b) * epsrat / dum2
     sig = sig * (sigs0 - sigr) + sigr
