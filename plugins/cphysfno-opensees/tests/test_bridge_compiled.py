@@ -132,3 +132,11 @@ def test_cholesky_solves_positive_definite_systems_and_hands_back_the_rest():
     matrix = indefinite.copy()
     assert not cholesky_solve(matrix, rhs, x)
     assert np.array_equal(matrix, indefinite)  # left as it was, for a general solver
+
+
+def test_every_record_starts_from_the_same_state_at_rest(compiled, strong):
+    acceleration, dt = strong
+    first = analyse_compiled(compiled, BRIDGE.numerics, BRIDGE.damping, acceleration[:50], dt)
+    analyse_compiled(compiled, BRIDGE.numerics, BRIDGE.damping, -acceleration[:80], dt)
+    again = analyse_compiled(compiled, BRIDGE.numerics, BRIDGE.damping, acceleration[:50], dt)
+    assert np.array_equal(first, again)

@@ -11,7 +11,7 @@ iterations run on the column tops alone (:mod:`.fibre.dynamics`). The result is 
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -68,9 +68,35 @@ class CompiledBridge:
     columns: Columns
     concrete_modulus: float
     steel_modulus: float
+    _cache: dict = field(default_factory=dict, compare=False, repr=False)
 
     def virgin(self) -> ColumnState:
         return self.columns.virgin(self.concrete_modulus, self.steel_modulus)
+
+    def at_rest(self) -> tuple[np.ndarray, ColumnState]:
+        """A fresh copy of :func:`at_rest_under_gravity` (computed once)."""
+        if "at_rest" not in self._cache:
+            self._cache["at_rest"] = at_rest_under_gravity(self)
+        u, state = self._cache["at_rest"]
+        return u.copy(), state.copy()
+
+    def damping_matrix(self, damping: Rayleigh) -> np.ndarray:
+        """``[n, n]`` Rayleigh damping ``a0 M + a1 K0``, N s/m."""
+        return damping.mass_factor * np.diag(self.mass) + (
+            damping.stiffness_factor * self.initial_stiffness
+        )
+
+    def partitions(self, damping: Rayleigh, step: float) -> tuple:
+        """The partitions of Newmark's effective matrix for the step ``step`` (s) and for
+        it split by each of ``SPLITS`` (computed once per damping and step)."""
+        key = ("partitions", damping, step)
+        if key not in self._cache:
+            matrix = self.damping_matrix(damping)
+            self._cache[key] = tuple(
+                Partition.of(effective_matrix(self, matrix, step / split), self.tops).arrays()
+                for split in (1, *SPLITS)
+            )
+        return self._cache[key]
 
 
 def fibre_columns(design: BridgeDesign, numerics: Numerics) -> Columns:
@@ -217,19 +243,13 @@ def analyse_compiled(
     Raises:
         AnalysisFailed: a step did not converge, even split into 8.
     """
-    u, state = at_rest_under_gravity(bridge)
+    u, state = bridge.at_rest()
     k = numerics.substeps
     values = np.asarray(acceleration, dtype=np.float64)
     fine = np.interp(np.arange(k * (values.size - 1) + 1) / k, np.arange(values.size), values)
     step = dt / k
-    damping_matrix = (
-        damping.mass_factor * np.diag(bridge.mass)
-        + damping.stiffness_factor * bridge.initial_stiffness
-    )
-    partitions = tuple(
-        Partition.of(effective_matrix(bridge, damping_matrix, step / split), bridge.tops).arrays()
-        for split in (1, *SPLITS)
-    )
+    damping_matrix = bridge.damping_matrix(damping)
+    partitions = bridge.partitions(damping, step)
     linear = (
         bridge.mass,
         bridge.influence,

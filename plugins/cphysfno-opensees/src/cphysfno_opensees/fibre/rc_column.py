@@ -179,6 +179,14 @@ class ColumnState:
         """``[c, 6]`` trial basic forces."""
         return self.element[1]
 
+    def copy(self) -> ColumnState:
+        return ColumnState(
+            tuple(a.copy() for a in self.element),
+            tuple(a.copy() for a in self.committed),
+            tuple(a.copy() for a in self.materials),
+            self.current.copy(),
+        )
+
 
 @numba.njit(cache=True, inline="always")
 def _section(fibres, materials, committed, c, i, e, force, tangent):
