@@ -20,6 +20,7 @@ import numpy as np
 
 from .rc_column import (
     basic_deformation,
+    column_scratch,
     commit_columns,
     copy_element,
     revert_columns,
@@ -78,11 +79,12 @@ def _update_all(columns, state, u_top, v_basic, limit, tolerance, counts):
     lengths, chords, drifts, locations, weights, flexibility, fibres = columns
     element, committed, materials, current = state
     outcome = 1
+    scratch = column_scratch()
     for c in range(lengths.size):
         basic_deformation(chords[c], u_top[c], v_basic)
         iterations = update_column(
             c, v_basic, lengths[c], locations, weights, flexibility[c], fibres, element,
-            materials, current, limit, tolerance,
+            materials, current, limit, tolerance, scratch,
         )  # fmt: skip
         counts[1] += abs(iterations)
         if iterations < 0:

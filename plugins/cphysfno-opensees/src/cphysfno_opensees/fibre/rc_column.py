@@ -214,9 +214,18 @@ def _section(fibres, materials, committed, c, i, e, force, tangent):
 
 
 @numba.njit(cache=True)
+def column_scratch():
+    """Work arrays for :func:`update_column`, to allocate once for many calls."""
+    return (
+        np.empty(6), np.empty(6), np.empty(6), np.empty(5), np.empty(3), np.empty(3),
+        np.empty(3), np.empty((3, 3)), np.empty((6, 6)), np.empty((6, 6)),
+    )  # fmt: skip
+
+
+@numba.njit(cache=True)
 def update_column(
     c, v, length, locations, weights, elastic_flexibility, fibres, element, materials, current,
-    limit, tolerance,
+    limit, tolerance, scratch,
 ):  # fmt: skip
     """Bring column ``c`` to the basic deformations ``v [6]``.
 
@@ -227,23 +236,16 @@ def update_column(
     correction below ``tolerance``, J), minus it if not; the state
     reached is kept either way (with ``limit = 1`` the element iterates along with the
     structure's Newton iterations, as in Neuenhofer and Filippou's non-iterative form).
+    ``scratch`` is :func:`column_scratch`'s.
     """
     vt, q, kv, e, s, fs = element
-    q_trial = np.empty(6)
+    q_trial, dv_residual, vr, b, target, residual, increment, tangent, flexibility, work = scratch
     for m in range(6):
         total = q[c, m]
         for n in range(6):
             total += kv[c, m, n] * (v[n] - vt[c, n])
         q_trial[m] = total
-    dv_residual = np.empty(6)
-    work = np.empty((6, 6))
-    target = np.empty(3)
-    residual = np.empty(3)
-    increment = np.empty(3)
-    tangent = np.empty((3, 3))
-    flexibility = np.empty((6, 6))
-    vr = np.empty(6)
-    b = np.ones(5)
+    b[0] = 1.0
     k = current[c]
     for iteration in range(1, limit + 1):
         for m in range(6):
