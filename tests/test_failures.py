@@ -73,6 +73,29 @@ def test_failures_a_structure_reports_are_kept_without_rerunning_records(toy_reg
     assert np.isnan(data.u[sorted(data.failures)]).all()
 
 
+def test_a_record_whose_physics_response_fails_is_listed_without_rerunning_the_chunk(
+    toy_registry, tmp_path
+):
+    probe = _config({"name": "toy-structure"})
+    peaks = _peaks(probe)
+    limit = float(np.sort(peaks)[-3])
+    config = cp.parse_config(
+        {
+            **CONFIG,
+            "structure": {"name": "toy-structure"},
+            "preprocessor": [{"name": "toy-fragile-linear", "limit": limit}],
+            "data": {**CONFIG["data"], "on_failure": "skip"},
+        }
+    )
+    toy_components.FragilePreprocessor.calls = 0
+    cp.generate_dataset(config, tmp_path / "dataset.h5", progress=False)
+    data = cp.load_dataset(tmp_path / "dataset.h5")
+    assert toy_components.FragilePreprocessor.calls == 3  # once per chunk of 5, no reruns
+    assert set(data.failures) == set(np.flatnonzero(peaks > limit).tolist())
+    assert all("toy-fragile-linear" in cause for cause in data.failures.values())
+    assert np.isnan(data.u[sorted(data.failures)]).all()
+
+
 def test_a_plugin_returning_a_wrong_shape_is_named(toy_registry, tmp_path):
     config = _config({"name": "toy-wrong-shape"}, on_failure="skip")
     with pytest.raises(

@@ -164,6 +164,24 @@ class ToyPreprocessor(cp.PhysicsPreprocessor):
         return self.structure_.simulate(motions).displacement
 
 
+class FragilePreprocessor(ToyPreprocessor):
+    """The toy linear part, NaN for the records whose peak ground acceleration exceeds
+    ``limit``: a physics simulation that fails on them. ``calls`` counts transforms."""
+
+    name = "toy-fragile-linear"
+
+    class Params(cp.Params):
+        limit: float = 1e9
+
+    calls = 0
+
+    def transform(self, motions):
+        FragilePreprocessor.calls += 1
+        z = super().transform(motions)
+        z[np.max(np.abs(motions.acceleration), axis=1) > self.params.limit] = np.nan
+        return z
+
+
 class NeedsLinearSystem(cp.PhysicsPreprocessor):
     """A preprocessor that needs a capability the toy structure lacks."""
 
@@ -249,7 +267,7 @@ def cphysfno_ground_motions():
 
 @cp.hookimpl
 def cphysfno_preprocessors():
-    return [ToyPreprocessor, NeedsLinearSystem]
+    return [ToyPreprocessor, FragilePreprocessor, NeedsLinearSystem]
 
 
 @cp.hookimpl

@@ -61,9 +61,7 @@ class _Parts:
             _check_shape(z[name], shape, entry, "z")
         result = ChunkResult(responses.displacement, extras, z, dict(responses.failures))
         for i in result.failures:
-            result.u[i] = np.nan
-            for values in result.z.values():
-                values[i] = np.nan
+            _blank(result, i)
         return result
 
 
@@ -76,12 +74,18 @@ def _check_shape(values: Any, shape: tuple, entry: Any, what: str) -> None:
         )
 
 
-def _non_finite(result: ChunkResult) -> list[int]:
-    arrays = [result.u, *result.z.values()]
-    bad = np.zeros(result.u.shape[0], dtype=bool)
-    for values in arrays:
-        bad |= ~np.isfinite(values).all(axis=(1, 2))
-    return [int(i) for i in np.flatnonzero(bad)]
+def _non_finite_causes(result: ChunkResult) -> dict[int, str]:
+    """Record index -> what holds NaN or Inf, for the records with any non-finite output."""
+    causes: dict[int, str] = {}
+    outputs = [("the response (the simulation diverged)", result.u)]
+    outputs += [
+        (f"the '{name}' physics response (its simulation failed or diverged)", values)
+        for name, values in result.z.items()
+    ]
+    for what, values in outputs:
+        for i in np.flatnonzero(~np.isfinite(values).all(axis=tuple(range(1, values.ndim)))):
+            causes.setdefault(int(i), f"NaN or Inf in {what}")
+    return causes
 
 
 def simulate_chunk(
@@ -93,21 +97,30 @@ def simulate_chunk(
     """Truth and physics responses of one chunk of records; runs in a worker process.
 
     Components are rebuilt here from their names and parameters, so nothing but plain data
-    crosses the process boundary. If the chunk fails, or some records come out with NaN or
-    Inf, the records are simulated one at a time to find which fail and why; a failed
-    record's rows are NaN and its cause is in ``failures``.
+    crosses the process boundary. A record that comes out with NaN or Inf is listed as
+    failed, its cause naming the output; if the chunk raises, the records are simulated one
+    at a time to find which fail and why. A failed record's rows are NaN and its cause is
+    in ``failures``.
     """
     parts = _Parts(structure_spec, preprocessor_specs)
     motions = GroundMotions(acceleration, dt)
     try:
         result = parts.run(motions)
-        if set(_non_finite(result)) <= set(result.failures):
-            return result
     except PluginError:
         raise
     except Exception:  # noqa: BLE001 - the records are rerun one by one to find the cause
-        pass
-    return _record_by_record(parts, motions)
+        return _record_by_record(parts, motions)
+    for i, cause in _non_finite_causes(result).items():
+        if i not in result.failures:
+            result.failures[i] = cause
+            _blank(result, i)
+    return result
+
+
+def _blank(result: ChunkResult, i: int) -> None:
+    """NaN in every output row of record ``i``."""
+    for values in (result.u, *result.extras.values(), *result.z.values()):
+        values[i] = np.nan
 
 
 def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
@@ -126,8 +139,9 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
             failures[i] = single.failures[0]
             results.append(None)
             continue
-        if _non_finite(single):
-            failures[i] = "NaN or Inf in the response (the simulation diverged)"
+        causes = _non_finite_causes(single)
+        if causes:
+            failures[i] = causes[0]
             results.append(None)
             continue
         results.append(single)

@@ -249,15 +249,17 @@ SPLITS = (2, 4, 8)
 
 
 @numba.njit(cache=True)
-def newmark(ground, dt, outputs, linear, motion, partitions, columns, state, solver):
+def newmark(ground, dt, outputs, linear, motion, partitions, columns, state, solver, recovery):
     """Integrate from the state ``motion = (u, v, a)`` through ``ground [T]`` (ground
     acceleration at the end of each step of ``dt``, m/s^2).
 
     ``partitions[k]`` splits the effective matrix of the step ``dt / SPLITS[k - 1]``
-    (``k = 0``: the step itself); a step that does not converge is retried split into 2,
-    4 and 8 steps (the record linear in between). Returns ``(u [T + 1, len(outputs)],
-    failed)``: the output DOFs after every step (row 0: the start) and the index of the
-    step that failed in every way, or -1.
+    (``k = 0``: the step itself). A step that does not converge with ``solver`` (see
+    :func:`solve_increment`) is tried again with ``recovery`` (typically the same with
+    iterative elements), then with ``recovery`` split into 2, 4 and 8 steps (the record
+    linear in between). Returns ``(u [T + 1, len(outputs)], failed)``: the output DOFs
+    after every step (row 0: the start) and the index of the step that failed in every
+    way, or -1.
     """
     u = motion[0]
     element, committed, materials, current = state
@@ -265,7 +267,11 @@ def newmark(ground, dt, outputs, linear, motion, partitions, columns, state, sol
     out[0] = u[outputs]
     previous = 0.0
     for j in range(ground.size):
-        if not _newmark_step(dt, ground[j], linear, motion, partitions[0], columns, state, solver):
+        if not _newmark_step(
+            dt, ground[j], linear, motion, partitions[0], columns, state, solver
+        ) and not _newmark_step(
+            dt, ground[j], linear, motion, partitions[0], columns, state, recovery
+        ):
             saved_motion = (motion[0].copy(), motion[1].copy(), motion[2].copy())
             saved_committed = (
                 committed[0].copy(), committed[1].copy(), committed[2].copy(),
@@ -281,7 +287,7 @@ def newmark(ground, dt, outputs, linear, motion, partitions, columns, state, sol
                     level = previous + (ground[j] - previous) * m / split
                     if not _newmark_step(
                         dt / split, level, linear, motion, partitions[k + 1], columns, state,
-                        solver,
+                        recovery,
                     ):  # fmt: skip
                         recovered = False
                         break

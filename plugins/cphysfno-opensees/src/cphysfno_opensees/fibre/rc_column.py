@@ -103,6 +103,19 @@ class Columns:
             + self.bars.initial_tangent(steel_modulus)
         )
 
+    def arrays(self) -> tuple:
+        """``(lengths, chords, drifts, locations, weights, elastic_flexibility, fibres)``:
+        the columns as the compiled analyses take them."""
+        return (
+            self.lengths,
+            self.chords,
+            self.drifts,
+            self.locations,
+            self.weights,
+            self.elastic_flexibility,
+            self.fibres,
+        )
+
     @property
     def fibres(self) -> tuple[np.ndarray, ...]:
         """Parameters, ``y``, ``z`` and areas of the core, cover and bar groups, in order."""
@@ -178,6 +191,10 @@ class ColumnState:
     def force(self) -> np.ndarray:
         """``[c, 6]`` trial basic forces."""
         return self.element[1]
+
+    def arrays(self) -> tuple:
+        """``(element, committed, materials, current)`` as the compiled analyses take them."""
+        return (self.element, self.committed, self.materials, self.current)
 
     def copy(self) -> ColumnState:
         return ColumnState(
