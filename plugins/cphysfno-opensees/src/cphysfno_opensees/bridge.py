@@ -67,6 +67,12 @@ class AuburnRavineBridgeParams(OpenSeesParams):
     tolerance: float = Field(
         NUMERICS.tolerance, gt=0.0, description="Newton tolerance on the displacement increment, m"
     )
+    iterative_elements: bool = Field(
+        NUMERICS.iterative_elements,
+        description="compiled engine: iterate every column to convergence at every Newton "
+        "iteration, as OpenSees does (its iterates exactly), instead of letting the columns "
+        "converge along with the structure (1.2 times faster, an equally converged answer)",
+    )
 
 
 class AuburnRavineBridge(OpenSeesStructure):
@@ -115,6 +121,7 @@ class AuburnRavineBridge(OpenSeesStructure):
             integration_points=p.integration_points,
             substeps=p.substeps,
             tolerance=p.tolerance,
+            iterative_elements=p.iterative_elements,
         )
 
     @cached_property
