@@ -21,7 +21,13 @@ from threadpoolctl import threadpool_limits
 from .bridge_analysis import analyse as opensees_analysis
 from .bridge_design import GRAVITY, BridgeDesign
 from .bridge_linear import TRANSVERSE, Rayleigh, _tangent
-from .bridge_model import Numerics, build, section_fibres, shear_and_torsion_stiffness
+from .bridge_model import (
+    Numerics,
+    build,
+    material_arguments,
+    section_fibres,
+    shear_and_torsion_stiffness,
+)
 from .fibre import concrete04, steel02
 from .fibre.dynamics import SPLITS, Partition, newmark, static_steps
 from .fibre.rc_column import (
@@ -105,26 +111,12 @@ class CompiledBridge:
 
 
 def fibre_columns(design: BridgeDesign, numerics: Numerics) -> Columns:
-    """The ten columns of :func:`.bridge_model.build` with the section of
-    :func:`.bridge_model._fibre_section` (same fibres, materials and integration)."""
-    core = design.confined_concrete()
-    tension = design.concrete_tensile_strength
-    cracking = tension / design.concrete_modulus
-    core_p = concrete04.parameters(
-        -core.strength, -core.peak_strain, -core.ultimate_strain,
-        design.concrete_modulus, tension, cracking,
-    )  # fmt: skip
-    cover_p = concrete04.parameters(
-        -design.concrete_strength, -design.concrete_peak_strain, -design.cover_spalling_strain,
-        design.concrete_modulus, tension, cracking,
-    )  # fmt: skip
-    hardening = (design.steel_ultimate - design.steel_yield) / (
-        design.steel_modulus
-        * (design.steel_ultimate_strain - design.steel_yield / design.steel_modulus)
-    )
-    steel_p = steel02.parameters(
-        design.steel_yield, design.steel_modulus, hardening, 20.0, 0.925, 0.15
-    )
+    """The ten columns of :func:`.bridge_model.build`: the same fibres, materials,
+    integration and orientation."""
+    core, cover, steel = material_arguments(design)
+    core_p = concrete04.parameters(*core)
+    cover_p = concrete04.parameters(*cover)
+    steel_p = steel02.parameters(*steel)
 
     def group(fibres: np.ndarray, p: np.ndarray, module: Any) -> FibreGroup:
         y, z, area = (np.ascontiguousarray(fibres[:, k]) for k in range(3))

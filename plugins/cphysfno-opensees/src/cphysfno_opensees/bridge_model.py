@@ -228,26 +228,33 @@ def section_fibres(
     return np.array(core), np.array(cover), bars
 
 
-def _fibre_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> None:
-    """Confined core, unconfined cover and reinforcing bars, with elastic shear and torsion."""
+def material_arguments(
+    design: BridgeDesign,
+) -> tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
+    """OpenSees' arguments of the core and cover ``Concrete04`` (``fc epsc epscu Ec fct
+    et``, compression negative) and of the bars' ``Steel02`` (``Fy E0 b R0 cR1 cR2``), SI."""
     core = design.confined_concrete()
     tension = design.concrete_tensile_strength
     cracking = tension / design.concrete_modulus
-    ops.uniaxialMaterial(
-        "Concrete04", CORE, -core.strength, -core.peak_strain, -core.ultimate_strain,
-        design.concrete_modulus, tension, cracking,
-    )  # fmt: skip
-    ops.uniaxialMaterial(
-        "Concrete04", COVER, -design.concrete_strength, -design.concrete_peak_strain,
-        -design.cover_spalling_strain, design.concrete_modulus, tension, cracking,
-    )  # fmt: skip
     hardening = (design.steel_ultimate - design.steel_yield) / (
         design.steel_modulus
         * (design.steel_ultimate_strain - design.steel_yield / design.steel_modulus)
     )
-    ops.uniaxialMaterial(
-        "Steel02", STEEL, design.steel_yield, design.steel_modulus, hardening, 20.0, 0.925, 0.15
-    )
+    return (
+        (-core.strength, -core.peak_strain, -core.ultimate_strain, design.concrete_modulus,
+         tension, cracking),
+        (-design.concrete_strength, -design.concrete_peak_strain, -design.cover_spalling_strain,
+         design.concrete_modulus, tension, cracking),
+        (design.steel_yield, design.steel_modulus, hardening, 20.0, 0.925, 0.15),
+    )  # fmt: skip
+
+
+def _fibre_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> None:
+    """Confined core, unconfined cover and reinforcing bars, with elastic shear and torsion."""
+    core, cover, steel = material_arguments(design)
+    ops.uniaxialMaterial("Concrete04", CORE, *core)
+    ops.uniaxialMaterial("Concrete04", COVER, *cover)
+    ops.uniaxialMaterial("Steel02", STEEL, *steel)
     shear, torsion = _shear_and_torsion(ops, design)
     ops.section("Fiber", FIBRE_SECTION, "-GJ", torsion)
     groups = zip((CORE, COVER, STEEL), section_fibres(design, numerics), strict=True)
