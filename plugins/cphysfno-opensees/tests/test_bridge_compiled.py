@@ -162,8 +162,8 @@ def test_a_step_the_non_iterative_elements_cannot_take_is_retaken_with_iterative
     def failed_step(recovery_elements) -> int:
         u, state = compiled.at_rest()
         counts = np.zeros(2, dtype=np.int64)
-        solver = (1e-6, 25, True, NON_ITERATIVE, counts)
-        recovery = (1e-6, 25, True, recovery_elements, counts)
+        solver = (1e-6, 25, NON_ITERATIVE, counts)
+        recovery = (1e-6, 25, recovery_elements, counts)
         linear = (compiled.mass, compiled.influence, compiled.gravity, compiled.stiffness,
                   compiled.damping_matrix(BRIDGE.damping), 0.5, 0.25)  # fmt: skip
         motion = (u, np.zeros_like(u), np.zeros_like(u))

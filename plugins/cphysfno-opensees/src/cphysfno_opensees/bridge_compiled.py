@@ -194,7 +194,7 @@ def at_rest_under_gravity(bridge: CompiledBridge) -> tuple[np.ndarray, ColumnSta
     ok = static_steps(
         bridge.gravity, GRAVITY_STEPS, bridge.stiffness, u, partition.arrays(),
         bridge.columns.arrays(), state.arrays(),
-        (GRAVITY_TOLERANCE, 50, True, ITERATIVE, np.zeros(2, dtype=np.int64)),
+        (GRAVITY_TOLERANCE, 50, ITERATIVE, np.zeros(2, dtype=np.int64)),
     )  # fmt: skip
     if not ok:
         raise RuntimeError("the bridge does not carry its own weight: check the design")
@@ -245,9 +245,8 @@ def analyse_compiled(
     at_rest = u[bridge.outputs].copy()
     counts = np.zeros(2, dtype=np.int64)
     elements = ITERATIVE if numerics.iterative_elements else NON_ITERATIVE
-    solver = (numerics.tolerance, numerics.max_iterations, numerics.final_update, elements, counts)
-    recovery = (numerics.tolerance, numerics.max_iterations, numerics.final_update, ITERATIVE,
-                counts)  # fmt: skip
+    solver = (numerics.tolerance, numerics.max_iterations, elements, counts)
+    recovery = (numerics.tolerance, numerics.max_iterations, ITERATIVE, counts)
     out, failed = newmark(
         fine[1:], step, bridge.outputs, linear, motion, partitions,
         bridge.columns.arrays(), state.arrays(), solver, recovery,

@@ -41,10 +41,6 @@ class Numerics:
         system: OpenSees linear system of equations.
         numberer: OpenSees DOF numberer.
         algorithm: OpenSees solution algorithm (``ops.algorithm`` arguments).
-        final_update: the compiled engine applies a Newton correction below the tolerance
-            and evaluates the columns there, as OpenSees does (True), or stops before it
-            (False: one column evaluation fewer per step, the answer moved by less than
-            the tolerance).
         iterative_elements: in the compiled engine, every column's state determination
             iterates to convergence at every Newton iteration, as OpenSees'
             ``forceBeamColumn`` does (True: OpenSees' iterates exactly), or takes one
@@ -62,7 +58,6 @@ class Numerics:
     system: str = "BandGeneral"
     numberer: str = "RCM"
     algorithm: tuple[str, ...] = ("Newton",)
-    final_update: bool = True
     iterative_elements: bool = False
 
 

@@ -135,17 +135,15 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
     """Newton iterations for ``A d + f(u_start + d) = rhs`` (``A`` the partition's
     matrix); returns ``(converged, d)``. The columns' trial states follow the iterates.
 
-    ``solver = (tolerance, max_iterations, final_update, (element_limit,
-    element_tolerance), counts)``: the tolerance on the correction's 2-norm; the
-    iterations allowed; whether a correction below the tolerance is still applied and the
-    columns evaluated there (OpenSees' ``NormDispIncr``) or the iteration stops before it
-    (one column evaluation fewer, the answer moved by less than the tolerance); the
+    ``solver = (tolerance, max_iterations, (element_limit, element_tolerance), counts)``:
+    the tolerance on the correction's 2-norm (the correction is applied and the columns
+    evaluated there, as OpenSees' ``NormDispIncr`` does); the iterations allowed; the
     element iterations per column and Newton iteration (1: the elements converge along
     with the structure, which then also waits for them) and the elements' energy
     tolerance, J; and ``counts [2]`` to which the Newton and the element iterations taken
     are added.
     """
-    tolerance, max_iterations, final_update, elements, counts = solver
+    tolerance, max_iterations, elements, counts = solver
     element_limit, element_tolerance = elements
     interior, boundary, solve_interior, coupling, boundary_rows, schur = partition
     lengths, chords, drifts = columns[0], columns[1], columns[2]
@@ -182,9 +180,6 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
             step = np.linalg.solve(tangent, residual)
         interior_step = coupling @ step
         small = np.sqrt(step @ step + interior_step @ interior_step) <= tolerance
-        if small and not final_update and elements_converged:
-            converged = True
-            break
         d_b += step
         for c in range(n_columns):
             for k in range(6):
