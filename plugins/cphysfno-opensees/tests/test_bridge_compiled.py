@@ -154,25 +154,49 @@ COARSE = [
 ]  # fmt: skip
 
 
+def _newmark(compiled, ground, step, solver, recovery):
+    """``newmark`` from the gravity state: ``(out, failed)``."""
+    u, state = compiled.at_rest()
+    linear = (compiled.mass, compiled.influence, compiled.gravity, compiled.stiffness,
+              compiled.damping_matrix(BRIDGE.damping), 0.5, 0.25)  # fmt: skip
+    motion = (u, np.zeros_like(u), np.zeros_like(u))
+    return newmark(
+        ground, step, compiled.outputs, linear, motion,
+        compiled.partitions(BRIDGE.damping, step), compiled.columns.arrays(),
+        state.arrays(), solver, recovery,
+    )  # fmt: skip
+
+
+def test_corrections_too_small_to_matter_are_not_evaluated(compiled, strong):
+    acceleration, dt = strong
+    acceleration = acceleration / 3.0  # the record at its own amplitude
+    step = dt / BRIDGE.numerics.substeps
+    fine = np.interp(np.arange(2 * 300) / 2, np.arange(acceleration.size), acceleration)
+    limit, tolerance, skip = NON_ITERATIVE
+    assert 0.0 < skip < 1.0
+    outcomes = []
+    for scheme in (NON_ITERATIVE, (limit, tolerance, 0.0)):
+        counts = np.zeros(2, dtype=np.int64)
+        solver = (1e-6, 25, scheme, counts)
+        out, failed = _newmark(compiled, fine[1:], step, solver, solver)
+        assert failed == -1
+        outcomes.append((out, counts[1]))
+    (skipping, evaluations), (applying, all_evaluations) = outcomes
+    assert evaluations < 0.9 * all_evaluations
+    error = np.linalg.norm(skipping - applying, axis=0) / np.linalg.norm(applying, axis=0)
+    assert error.max() < 5e-4, error
+
+
 def test_a_step_the_non_iterative_elements_cannot_take_is_retaken_with_iterative_ones(compiled):
     coarse = np.asarray(COARSE)
     step = 0.1 / BRIDGE.numerics.substeps
     fine = np.interp(np.arange(2 * coarse.size - 1) / 2, np.arange(coarse.size), coarse)
 
     def failed_step(recovery_elements) -> int:
-        u, state = compiled.at_rest()
         counts = np.zeros(2, dtype=np.int64)
         solver = (1e-6, 25, NON_ITERATIVE, counts)
         recovery = (1e-6, 25, recovery_elements, counts)
-        linear = (compiled.mass, compiled.influence, compiled.gravity, compiled.stiffness,
-                  compiled.damping_matrix(BRIDGE.damping), 0.5, 0.25)  # fmt: skip
-        motion = (u, np.zeros_like(u), np.zeros_like(u))
-        _, failed = newmark(
-            fine[1:], step, compiled.outputs, linear, motion,
-            compiled.partitions(BRIDGE.damping, step), compiled.columns.arrays(),
-            state.arrays(), solver, recovery,
-        )  # fmt: skip
-        return failed
+        return _newmark(compiled, fine[1:], step, solver, recovery)[1]
 
     assert failed_step(NON_ITERATIVE) == 52  # t = 2.6 s, even split into 8
     assert failed_step(ITERATIVE) == -1

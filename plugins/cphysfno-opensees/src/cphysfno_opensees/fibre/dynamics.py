@@ -135,16 +135,18 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
     """Newton iterations for ``A d + f(u_start + d) = rhs`` (``A`` the partition's
     matrix); returns ``(converged, d)``. The columns' trial states follow the iterates.
 
-    ``solver = (tolerance, max_iterations, (element_limit, element_tolerance), counts)``:
-    the tolerance on the correction's 2-norm (the correction is applied and the columns
-    evaluated there, as OpenSees' ``NormDispIncr`` does); the iterations allowed; the
-    element iterations per column and Newton iteration (1: the elements converge along
-    with the structure, which then also waits for them) and the elements' energy
-    tolerance, J; and ``counts [2]`` to which the Newton and the element iterations taken
-    are added.
+    ``solver = (tolerance, max_iterations, (element_limit, element_tolerance, skip),
+    counts)``: the tolerance on the correction's 2-norm (the correction is applied and
+    the columns evaluated there, as OpenSees' ``NormDispIncr`` does); the iterations
+    allowed; the element iterations per column and Newton iteration (1: the elements
+    converge along with the structure, which then also waits for them), the elements'
+    energy tolerance (J), and the fraction of the tolerance below which a correction is
+    not applied once the columns have converged (0: OpenSees' iterates; above 0, one
+    column evaluation fewer and the answer moved by less than ``skip * tolerance``); and
+    ``counts [2]`` to which the Newton and the element iterations taken are added.
     """
     tolerance, max_iterations, elements, counts = solver
-    element_limit, element_tolerance = elements
+    element_limit, element_tolerance, skip = elements
     interior, boundary, solve_interior, coupling, boundary_rows, schur = partition
     lengths, chords, drifts = columns[0], columns[1], columns[2]
     element = state[0]
@@ -179,7 +181,11 @@ def solve_increment(rhs, u_start, partition, columns, state, solver):
         if not cholesky_solve(tangent, residual, step):
             step = np.linalg.solve(tangent, residual)
         interior_step = coupling @ step
-        small = np.sqrt(step @ step + interior_step @ interior_step) <= tolerance
+        norm = np.sqrt(step @ step + interior_step @ interior_step)
+        small = norm <= tolerance
+        if norm <= skip * tolerance and elements_converged:
+            converged = True
+            break
         d_b += step
         for c in range(n_columns):
             for k in range(6):

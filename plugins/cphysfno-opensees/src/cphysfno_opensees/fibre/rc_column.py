@@ -24,10 +24,12 @@ from .section import FibreGroup, add_group, invert, invert3, symmetrise
 
 ELEMENT_TOLERANCE = 1e-12
 """OpenSees' default energy tolerance of the element state determination, J."""
-COMPATIBILITY_TOLERANCE = 1e-9
+COMPATIBILITY_TOLERANCE = 1e-4
 """Energy of its last correction, J, below which a column that takes one iteration per
-Newton iteration counts as converged (on strong bridge records the answer is 5e-7 from
-that with ``ELEMENT_TOLERANCE``, at 5 % fewer Newton iterations)."""
+Newton iteration counts as converged (its section forces are MN and MN m); what is left
+is carried into the next iteration or step, as in Neuenhofer and Filippou's
+non-iterative form. From 1e-9 J to 1e-4 J the Newton iterations per step fall from 2.5
+to 2.26 on the bridge's records, and a strong record stays 9e-5 from OpenSees."""
 ELEMENT_ITERATIONS = 50
 """Element iterations before the state determination gives up."""
 ROW = (0, 1, 1, 2, 2)
