@@ -5,10 +5,11 @@ spectrum-compatible records of the bridge scenario (M 7, R_JB 5 km, 3001 samples
 0.01 s), two worker processes, timed on a subset and scaled linearly to 1000 records;
 beside it the same model run by OpenSees itself (``engine = "opensees"``), one record
 after another in two processes, which is what a user of OpenSeesPy would otherwise run.
-Accuracy is measured against the reference configuration (a fine fibre mesh, 48 sectors x
-12 core rings x 4 cover rings, a Newton tolerance of 1e-10 m and OpenSees' iterative
-element state determination, solved by the compiled engine), which the defaults must
-reproduce within 1e-3 relative L2 per pier. The ``relaxed`` row is the preprocessor of
+Accuracy is measured against OpenSees on the same records (the engine's error) and
+against the reference configuration (a fine fibre mesh, 48 sectors x 12 core rings x 4
+cover rings, a Newton tolerance of 1e-10 m and OpenSees' iterative element state
+determination, solved by the compiled engine): the default mesh's error, which the plugin
+README sets beside finer meshes and the time step. The ``relaxed`` row is the preprocessor of
 ``examples/bridge.toml`` (the bridge on the 0.1 s grid) on the same records, the other
 part of a data set's nonlinear analyses; the ``els`` row is the linear representation
 solved exactly for all 1000 records.
@@ -77,8 +78,8 @@ def run(quick: bool = False) -> list[Row]:
                 f"{n_timed} records timed, scaled x{scale:g}",
                 f"ours: {ours_s * per_core:.2f} s per record per core, OpenSees "
                 f"{opensees_s * per_core:.2f}",
-                f"relative L2 to the reference per pier, largest {error.max():.1e} (limit 1e-3); "
-                f"to OpenSees {engines.max():.1e}",
+                f"relative L2 per pier, largest: to OpenSees {engines.max():.1e}, to the "
+                f"reference {error.max():.1e} (the default mesh's error)",
                 load,
             ],
         ),
