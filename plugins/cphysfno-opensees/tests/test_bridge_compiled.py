@@ -15,6 +15,7 @@ from cphysfno_opensees.bridge_compiled import (
     analyse_compiled,
     at_rest_under_gravity,
     compile_bridge,
+    on_substeps,
 )
 from cphysfno_opensees.bridge_model import build
 from cphysfno_opensees.fibre.dynamics import cholesky_solve, newmark
@@ -171,7 +172,7 @@ def test_corrections_too_small_to_matter_are_not_evaluated(compiled, strong):
     acceleration, dt = strong
     acceleration = acceleration / 3.0  # the record at its own amplitude
     step = dt / BRIDGE.numerics.substeps
-    fine = np.interp(np.arange(2 * 300) / 2, np.arange(acceleration.size), acceleration)
+    fine = on_substeps(acceleration, BRIDGE.numerics.substeps)
     limit, tolerance, skip = NON_ITERATIVE
     assert 0.0 < skip < 1.0
     outcomes = []
@@ -190,7 +191,7 @@ def test_corrections_too_small_to_matter_are_not_evaluated(compiled, strong):
 def test_a_step_the_non_iterative_elements_cannot_take_is_retaken_with_iterative_ones(compiled):
     coarse = np.asarray(COARSE)
     step = 0.1 / BRIDGE.numerics.substeps
-    fine = np.interp(np.arange(2 * coarse.size - 1) / 2, np.arange(coarse.size), coarse)
+    fine = on_substeps(coarse, BRIDGE.numerics.substeps)
 
     def failed_step(recovery_elements) -> int:
         counts = np.zeros(2, dtype=np.int64)

@@ -235,8 +235,7 @@ def analyse_compiled(
     """
     u, state = bridge.at_rest()
     k = numerics.substeps
-    values = np.asarray(acceleration, dtype=np.float64)
-    fine = np.interp(np.arange(k * (values.size - 1) + 1) / k, np.arange(values.size), values)
+    fine = on_substeps(acceleration, k)
     step = dt / k
     damping_matrix = bridge.damping_matrix(damping)
     partitions = bridge.partitions(damping, step)
@@ -262,6 +261,14 @@ def analyse_compiled(
     if failed >= 0:
         raise AnalysisFailed(failed * step, RECOVERY)
     return out[::k] - at_rest
+
+
+def on_substeps(acceleration: np.ndarray, substeps: int) -> np.ndarray:
+    """``[substeps * (T - 1) + 1]`` the record ``acceleration [T]`` (m/s^2) at every
+    Newmark substep, linear between its samples."""
+    values = np.asarray(acceleration, dtype=np.float64)
+    times = np.arange(substeps * (values.size - 1) + 1) / substeps
+    return np.interp(times, np.arange(values.size), values)
 
 
 def effective_matrix(bridge: CompiledBridge, damping: np.ndarray, step: float) -> np.ndarray:
