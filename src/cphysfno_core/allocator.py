@@ -8,9 +8,9 @@ the two cores here that was a quarter of an Example 1 training epoch and 40 % of
 Example 3 one. :func:`retain_freed_memory` turns ``mmap`` off for ``malloc`` (every block
 comes from the heap, whatever its size; glibc's ``mmap`` threshold cannot be raised above
 32 MiB) and keeps up to 2 GiB of free heap, so freed blocks are reused at once. The
-``cphysfno`` command and the benchmarks call it at start; the resident size then stays at
-its high-water mark instead of falling back between batches (Example 3's training: 1.9 GB
-instead of 1.4 GB).
+``cphysfno`` command, its study workers and the benchmarks call it at start; the resident
+size then stays at its high-water mark instead of falling back between batches (Example
+3's training: 1.9 GB instead of 1.4 GB).
 """
 
 from __future__ import annotations
