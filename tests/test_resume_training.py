@@ -1,10 +1,10 @@
 """Training killed after any epoch and resumed from its checkpoint ends with the same
 weights as an uninterrupted run (CPU, same seed)."""
 
-import numpy as np
 import pytest
 import torch
 from toy_experiment import toy_experiment
+from toy_training import fit_toy, toy_data
 
 import cphysfno_core as cp
 from cphysfno_core import pipeline
@@ -15,27 +15,10 @@ class Killed(Exception):
     pass
 
 
-def _data(toy_registry):
-    structure = cp.create("structure", "toy-structure", cubic=30.0)
-    gm = cp.create("ground_motion", "toy-source", n_steps=80).sample(14, np.random.default_rng(4))
-    return structure, gm, structure.simulate(gm).displacement
-
-
-def _fit(structure, gm, u, **kwargs):
-    model = cp.compose(
-        structure=structure,
-        preprocessor="toy-linear",
-        operator="toy-operator",
-        training={"batch_size": 3, "seed": 5, "decay_step": 2},
-    )
-    model.fit(gm[:10], u[:10], validation=(gm[10:], u[10:]), epochs=6, **kwargs)
-    return model
-
-
 @pytest.mark.parametrize("killed_after", [1, 3, 5])
 def test_resumed_training_matches_an_uninterrupted_run(toy_registry, tmp_path, killed_after):
-    structure, gm, u = _data(toy_registry)
-    reference = _fit(structure, gm, u, progress=None)
+    structure, gm, u = toy_data()
+    reference = fit_toy(structure, gm, u, progress=None)
 
     def kill(report):
         if report.epoch == killed_after:
@@ -43,8 +26,8 @@ def test_resumed_training_matches_an_uninterrupted_run(toy_registry, tmp_path, k
 
     checkpoint = tmp_path / "ckpt.pt"
     with pytest.raises(Killed):
-        _fit(structure, gm, u, progress=kill, checkpoint=checkpoint)
-    resumed = _fit(structure, gm, u, progress=None, checkpoint=checkpoint, resume=True)
+        fit_toy(structure, gm, u, progress=kill, checkpoint=checkpoint)
+    resumed = fit_toy(structure, gm, u, progress=None, checkpoint=checkpoint, resume=True)
     for key, value in reference.operator_.state_dict().items():
         assert torch.equal(resumed.operator_.state_dict()[key], value), key
     assert resumed.history_.val_loss == reference.history_.val_loss
@@ -52,11 +35,11 @@ def test_resumed_training_matches_an_uninterrupted_run(toy_registry, tmp_path, k
 
 
 def test_a_corrupt_checkpoint_is_a_clear_error(toy_registry, tmp_path):
-    structure, gm, u = _data(toy_registry)
+    structure, gm, u = toy_data()
     checkpoint = tmp_path / "ckpt.pt"
     checkpoint.write_bytes(b"not a checkpoint")
     with pytest.raises(cp.DatasetError, match="cannot resume from .*remove it"):
-        _fit(structure, gm, u, progress=None, checkpoint=checkpoint, resume=True)
+        fit_toy(structure, gm, u, progress=None, checkpoint=checkpoint, resume=True)
 
 
 CONFIG = toy_experiment(
