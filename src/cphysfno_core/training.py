@@ -110,7 +110,12 @@ def _error_and_norm(prediction: torch.Tensor, target: torch.Tensor) -> tuple[tor
 
 @dataclass
 class EpochReport:
-    """What one epoch did, handed to the progress callback."""
+    """What one epoch did, handed to the progress callback.
+
+    ``seconds`` is the epoch's wall time (s), ``seconds_left`` the estimate for the epochs
+    still to run: the mean epoch time since training started (or resumed) times their
+    number, 0 after the last.
+    """
 
     epoch: int
     epochs: int
@@ -119,6 +124,7 @@ class EpochReport:
     learning_rate: float
     seconds: float
     best: bool
+    seconds_left: float = 0.0
 
 
 @dataclass
@@ -143,15 +149,26 @@ class TrainingHistory:
 
 
 def print_progress(report: EpochReport) -> None:
-    """Default progress: one line per epoch on stderr."""
-    mark = " *" if report.best else ""
-    print(
+    """Default progress: one line per epoch on stderr (``*``: best validation so far), with
+    the time left while epochs remain."""
+    mark = " *" if report.best else "  "
+    left = f"  {_duration(report.seconds_left)} left" if report.epoch < report.epochs else ""
+    line = (
         f"  epoch {report.epoch:>4}/{report.epochs}  train {report.train_loss:.4f}  "
         f"val {report.val_loss:.4f}  lr {report.learning_rate:.2e}  "
-        f"{report.seconds:.1f}s{mark}",
-        file=sys.stderr,
-        flush=True,
+        f"{report.seconds:.1f}s{mark}{left}"
     )
+    print(line.rstrip(), file=sys.stderr, flush=True)
+
+
+def _duration(seconds: float) -> str:
+    """``"1 h 05 min"``, ``"12 min"`` or ``"40 s"``."""
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    minutes = round(seconds / 60)
+    if minutes >= 60:
+        return f"{minutes // 60} h {minutes % 60:02d} min"
+    return f"{minutes} min"
 
 
 def save_checkpoint(path: str | Path, state: dict) -> None:
@@ -282,6 +299,8 @@ def train_operator(
             history.best_epoch = epoch
             best_state = copy.deepcopy(operator.state_dict())
         if progress is not None:
+            now = time.perf_counter()
+            per_epoch = (now - started) / (epoch - first_epoch + 1)
             progress(
                 EpochReport(
                     epoch,
@@ -289,8 +308,9 @@ def train_operator(
                     train_loss,
                     val_loss,
                     learning_rate,
-                    time.perf_counter() - tic,
+                    now - tic,
                     improved,
+                    per_epoch * (settings.epochs - epoch),
                 )
             )
         if checkpoint is not None:
