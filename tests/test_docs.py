@@ -32,6 +32,9 @@ def test_site_builds_in_strict_mode(tmp_path):
     assert "group_by" in config_page and "ground_motion_input" in config_page
     results = (tmp_path / "site" / "benchmarks" / "index.html").read_text()
     assert "Benchmark results" in results and "Reliability" in results
+    examples = (tmp_path / "site" / "results" / "index.html").read_text()
+    assert "example2.json" in examples and 'src="../example1-layers.png"' in examples
+    assert (tmp_path / "site" / "example1-layers.png").exists()
 
 
 @pytest.mark.parametrize(
