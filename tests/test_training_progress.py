@@ -30,9 +30,9 @@ def test_time_left_is_the_mean_epoch_time_times_the_epochs_left(toy_registry, mo
 @pytest.mark.parametrize(
     ("epoch", "best", "seconds_left", "ending"),
     [
-        (3, False, 40.0, "12.3s    40 s left"),
-        (3, True, 750.0, "12.3s *  12 min left"),
-        (3, False, 3900.0, "12.3s    1 h 05 min left"),
+        (3, False, 40.0, "12.3s    about 40 s left"),
+        (3, True, 750.0, "12.3s *  about 12 min left"),
+        (3, False, 5760.0, "12.3s    about 1.6 h left"),
         (6, False, 0.0, "12.3s"),
         (6, True, 0.0, "12.3s *"),
     ],

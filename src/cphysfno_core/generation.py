@@ -32,6 +32,7 @@ from .errors import ConfigError, DatasetError
 from .executors import run_tasks
 from .grouped_split import grouped_order
 from .interfaces import GroundMotionSource
+from .progress import time_left
 from .registry import get_registry
 from .signals import GroundMotions
 from .simulation import ChunkResult, simulate_chunk
@@ -242,13 +243,7 @@ def progress_line(done: int, total: int, elapsed: float) -> str:
     rate = done / max(elapsed, 1e-9)
     speed = f"{rate:.0f} records/s" if rate >= 1.0 else f"{1.0 / rate:.1f} s per record"
     left = (total - done) / rate if rate > 0 else float("inf")
-    if left < 90:
-        remaining = f"about {left:.0f} s left"
-    elif left < 5400:
-        remaining = f"about {left / 60:.0f} min left"
-    else:
-        remaining = f"about {left / 3600:.1f} h left"
-    return f"{done}/{total} records ({speed}, {remaining})"
+    return f"{done}/{total} records ({speed}, {time_left(left)})"
 
 
 def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) -> None:

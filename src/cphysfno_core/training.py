@@ -19,6 +19,7 @@ import torch
 
 from .config import TrainingConfig
 from .errors import ConfigError, DatasetError, InputError
+from .progress import time_left
 
 FUSED_ADAM_DEVICES = ("cpu", "cuda")
 """Device types on which Adam runs fused (one kernel over all parameters) when every
@@ -152,23 +153,13 @@ def print_progress(report: EpochReport) -> None:
     """Default progress: one line per epoch on stderr (``*``: best validation so far), with
     the time left while epochs remain."""
     mark = " *" if report.best else "  "
-    left = f"  {_duration(report.seconds_left)} left" if report.epoch < report.epochs else ""
+    left = f"  {time_left(report.seconds_left)}" if report.epoch < report.epochs else ""
     line = (
         f"  epoch {report.epoch:>4}/{report.epochs}  train {report.train_loss:.4f}  "
         f"val {report.val_loss:.4f}  lr {report.learning_rate:.2e}  "
         f"{report.seconds:.1f}s{mark}{left}"
     )
     print(line.rstrip(), file=sys.stderr, flush=True)
-
-
-def _duration(seconds: float) -> str:
-    """``"1 h 05 min"``, ``"12 min"`` or ``"40 s"``."""
-    if seconds < 60:
-        return f"{seconds:.0f} s"
-    minutes = round(seconds / 60)
-    if minutes >= 60:
-        return f"{minutes // 60} h {minutes % 60:02d} min"
-    return f"{minutes} min"
 
 
 def save_checkpoint(path: str | Path, state: dict) -> None:
