@@ -214,7 +214,7 @@ def run(quick: bool = False, device: str = "cpu") -> list[Row]:
                 f"ELS {els:.2f} s, operator and assembly {operator:.2f} s (by difference), "
                 f"refiner {refiner:.2f} s",
                 f"operator {flops / 1e9:.0f} GFLOP of matrix products, "
-                f"{flops / operator / 1e9:.0f} GFLOP/s; FLOP floor at the best torch.mm rate "
+                f"{flops / operator / 1e9:.0f} GFLOP/s; FLOP floor at the best matrix-product rate "
                 f"({rate / 1e9:.0f} GFLOP/s) {flops / rate:.1f} s",
             ],
         )

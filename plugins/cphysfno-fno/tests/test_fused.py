@@ -7,8 +7,10 @@ import torch
 from cphysfno_fno import FNO1d, SpectralConv1d
 from cphysfno_fno.dense import (
     ONEDNN_MIN_OUT,
+    add_product_,
     dense,
     pointwise_linear,
+    product,
     uses_onednn,
     weight_gradient,
 )
@@ -88,6 +90,29 @@ def test_dense_equals_addmm(out_features: int, dtype: torch.dtype) -> None:
     torch.testing.assert_close(
         dense(x, weight.t().contiguous().t()), x @ weight.t(), rtol=tolerance, atol=tolerance
     )
+
+
+@pytest.mark.parametrize("dtype", [torch.float32, torch.float64])
+@pytest.mark.parametrize("contiguous_basis", [True, False])
+def test_product_and_add_product_equal_mm_for_transform_shapes(
+    dtype: torch.dtype, contiguous_basis: bool
+) -> None:
+    """Both transform shapes: ``[2m, T] @ [T, columns]`` and ``[T, 2m] @ [2m, columns]``,
+    the basis contiguous or a transposed view (as in the backward pass)."""
+    generator = torch.Generator().manual_seed(3)
+    basis = torch.randn(40, 997, dtype=dtype, generator=generator)
+    basis = basis if contiguous_basis else basis.t().contiguous().t()
+    field = torch.randn(997, 3 * 64, dtype=dtype, generator=generator)
+    spectrum = torch.randn(40, 3 * 64, dtype=dtype, generator=generator)
+    tolerance = {"rtol": 1e-5, "atol": 1e-4} if dtype == torch.float32 else {}
+    assert uses_onednn(basis, field.shape[1]) == (dtype == torch.float32)
+    for a, b in [(basis, field), (basis.t(), spectrum)]:
+        expected = (a.double() @ b.double()).to(dtype)
+        torch.testing.assert_close(product(a, b), expected, **tolerance)
+        start = torch.randn(expected.shape, dtype=dtype, generator=generator)
+        out = start.clone()
+        assert add_product_(out, a, b) is out
+        torch.testing.assert_close(out, start + expected, **tolerance)
 
 
 @pytest.mark.parametrize(("inputs", "outputs"), [(6, 64), (64, 5), (32, 32)])

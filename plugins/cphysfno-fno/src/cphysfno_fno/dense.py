@@ -1,12 +1,16 @@
-"""Pointwise (per-sample) channel maps ``x Wᵀ + b`` on CPU, with their gradients.
+"""The FNO's matrix products on CPU: pointwise channel maps ``x Wᵀ + b`` with their
+gradients, and the truncated Fourier transforms.
 
 A pointwise map of a long time series is a matrix product with many rows and few columns
-(e.g. ``[T * batch, 64] @ [64, 64]``). For float32 on CPU, oneDNN's inner-product kernel
-runs such shapes markedly faster than the BLAS ``gemm`` behind ``torch.mm`` unless the
-output is very narrow (a projection to a handful of DOFs), where BLAS is faster; every other
-dtype or device goes through ``torch.mm`` / ``torch.addmm``. The weight gradient is a BLAS
-product oriented so that its wider side is the BLAS column count: with a narrow side of a
-few channels as the column count, BLAS runs several times slower.
+(e.g. ``[T * batch, 64] @ [64, 64]``); a truncated transform one with few rows or a short
+inner dimension and many columns (``[2m, T] @ [T, batch * width]`` and
+``[T, 2m] @ [2m, batch * width]``). For float32 on CPU, oneDNN's inner-product kernel runs
+both kinds markedly faster than the BLAS ``gemm`` behind ``torch.mm`` (on an AVX-512 AMD
+EPYC about twice as fast: MKL takes its AVX2 path there) unless the output is very narrow
+(a projection to a handful of DOFs), where BLAS is faster; every other dtype or device goes
+through ``torch.mm`` / ``torch.addmm``. The weight gradient is a BLAS product oriented so
+that its wider side is the BLAS column count: with a narrow side of a few channels as the
+column count, BLAS runs several times slower, and oneDNN is no faster.
 """
 
 from __future__ import annotations
@@ -47,6 +51,35 @@ def dense(x: torch.Tensor, weight: torch.Tensor, bias: torch.Tensor | None = Non
     if bias is None:
         return torch.mm(x, weight.t())
     return torch.addmm(bias, x, weight.t())
+
+
+def product(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """``a @ b`` through :func:`dense`.
+
+    Args:
+        a: ``[rows, inner]``.
+        b: ``[inner, columns]`` (any strides).
+
+    Returns:
+        ``[rows, columns]``, a new contiguous tensor.
+    """
+    return dense(a, b.t())
+
+
+def add_product_(out: torch.Tensor, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """``out += a @ b`` in place, through oneDNN where :func:`dense` would use it.
+
+    Args:
+        out: ``[rows, columns]``, contiguous.
+        a: ``[rows, inner]``.
+        b: ``[inner, columns]`` (any strides).
+
+    Returns:
+        ``out``.
+    """
+    if uses_onednn(a, b.shape[1]):
+        return out.add_(product(a, b))
+    return out.addmm_(a, b)
 
 
 def weight_gradient(grad: torch.Tensor, rows: torch.Tensor) -> torch.Tensor:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import torch
 
-from .dense import dense, weight_gradient
+from .dense import add_product_, dense, product, weight_gradient
 from .dft import dft_bases, n_kept_modes
 from .spectral import mix_modes
 
@@ -49,11 +49,13 @@ class _FourierLayer(torch.autograd.Function):
         m = n_kept_modes(n, weight_real.shape[0])
         forward_basis, inverse_basis = dft_bases(n, weight_real.shape[0], v.dtype, v.device)
         v = v.contiguous()
-        spectrum = torch.mm(forward_basis, v.view(n, batch * width))
+        spectrum = product(forward_basis, v.view(n, batch * width))
         mixed = mix_modes(spectrum.view(2, m, batch, width), weight_real[:m], weight_imag[:m])
         out = dense(v.view(n * batch, width), weight, bias)
-        out.view(n, batch * out_channels).addmm_(
-            inverse_basis, mixed.view(2 * m, batch * out_channels)
+        add_product_(
+            out.view(n, batch * out_channels),
+            inverse_basis,
+            mixed.view(2 * m, batch * out_channels),
         )
         ctx.save_for_backward(v, weight, weight_real, weight_imag, spectrum)
         return out.view(n, batch, out_channels)
@@ -67,7 +69,7 @@ class _FourierLayer(torch.autograd.Function):
         m = n_kept_modes(n, modes)
         forward_basis, inverse_basis = dft_bases(n, modes, v.dtype, v.device)
         grad = grad_out.contiguous().view(n * batch, out_channels)
-        grad_mixed = torch.mm(inverse_basis.t(), grad.view(n, batch * out_channels))
+        grad_mixed = product(inverse_basis.t(), grad.view(n, batch * out_channels))
         grad_mixed = grad_mixed.view(2, m, batch, out_channels)
         grad_spectrum, grad_real, grad_imag = _mix_modes_backward(
             spectrum.view(2, m, batch, width), grad_mixed, weight_real[:m], weight_imag[:m]
@@ -75,8 +77,10 @@ class _FourierLayer(torch.autograd.Function):
         grad_v = grad_weight = grad_bias = None
         if ctx.needs_input_grad[0]:
             grad_v = dense(grad, weight.t())
-            grad_v.view(n, batch * width).addmm_(
-                forward_basis.t(), grad_spectrum.view(2 * m, batch * width)
+            add_product_(
+                grad_v.view(n, batch * width),
+                forward_basis.t(),
+                grad_spectrum.view(2 * m, batch * width),
             )
             grad_v = grad_v.view(n, batch, width)
         if ctx.needs_input_grad[1]:
