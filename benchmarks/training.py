@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import torch
@@ -97,11 +98,11 @@ def best_matmul_rate(
         a = torch.randn(rows, inner, device=device)
         b = torch.randn(inner, cols, device=device)
         out = torch.empty(rows, cols, device=device)
-        for into_out in (True, False):
+        for multiply in (partial(torch.mm, a, b, out=out), partial(product, a, b)):
             for _ in range(repeat + 1):
                 synchronize(device)
                 start = time.perf_counter()
-                torch.mm(a, b, out=out) if into_out else product(a, b)
+                multiply()
                 synchronize(device)
                 best = max(best, 2.0 * rows * inner * cols / (time.perf_counter() - start))
     return best

@@ -6,6 +6,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import cphysfno_core as cp
 from cphysfno_core.cli import main
@@ -133,11 +134,15 @@ def test_the_cpu_configs_of_examples_2_and_3_are_the_full_ones_cut_down():
         assert reduced == paper
 
 
-def test_the_residual_frame_config_reuses_the_cpu_frame_data():
+@pytest.mark.parametrize(
+    ("plain", "residual"),
+    [("sac9-frame-cpu", "sac9-frame-cpu-residual"), ("sac9-frame", "sac9-frame-residual")],
+)
+def test_the_residual_frame_configs_reuse_their_frame_data(plain: str, residual: str):
     from cphysfno_core.data import dataset_hash
 
-    cpu = cp.load_config(EXAMPLES / "sac9-frame-cpu.toml")
-    residual = cp.load_config(EXAMPLES / "sac9-frame-cpu-residual.toml")
-    assert dataset_hash(residual) == dataset_hash(cpu)
-    assert residual.formulation.residual and residual.formulation.ground_motion_input
-    assert residual.operator == cpu.operator
+    paper = cp.load_config(EXAMPLES / f"{plain}.toml")
+    beyond = cp.load_config(EXAMPLES / f"{residual}.toml")
+    assert dataset_hash(beyond) == dataset_hash(paper)
+    assert beyond.formulation.residual and beyond.formulation.ground_motion_input
+    assert beyond.operator == paper.operator
