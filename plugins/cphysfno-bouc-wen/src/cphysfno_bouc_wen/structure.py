@@ -87,7 +87,8 @@ class BoucWenShearBuilding(Structure):
 
     Outputs are the floor displacements relative to the ground (m), bottom floor first;
     :meth:`simulate` also returns the extras ``"story_drift"`` (v, m) and
-    ``"story_shear"`` (r, N), each ``[n, T, n_stories]``.
+    ``"story_shear"`` (r, N), each ``[n, T, n_stories]``; on the motion's grid they are in
+    the arithmetic ``precision`` names (float32 by default), on a coarse grid in float64.
     """
 
     name = "bouc-wen-shear-building"
