@@ -41,6 +41,7 @@ def test_fine_grid_matches_tight_solve_ivp(hardest, reference, rel_l2, precision
     error = rel_l2(simulated.displacement, reference[None, :, :5])
     assert simulated.displacement.shape == (1, 3001, 5)
     assert simulated.displacement.dtype == np.float64
+    assert simulated.extras["story_shear"].dtype == np.dtype(precision)
     assert np.all(error <= 1e-3), f"relative L2 per story {error}"
     drift = np.diff(reference[:, :5], axis=1, prepend=0.0)
     np.testing.assert_allclose(simulated.extras["story_drift"][0], drift, atol=3e-5)
