@@ -27,8 +27,8 @@ NODES = np.array([0.0, 0.5, 0.5, 1.0])
 WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 """Weights of the stages."""
 
-STAGES = 5
-"""State buffers of one step: the state, then where each Runge-Kutta stage starts."""
+STAGES = len(NODES)
+"""State buffers of one step: the state, then where each later Runge-Kutta stage starts."""
 
 
 def integrate_rk4(
@@ -183,8 +183,9 @@ def _stage(stage, i, total, stages, step_ag, model, states):
     Evaluates the rates ``f`` at ``stage[i]`` ``[2r + d, LANES]`` with ``a_g`` at the
     stage's time in sample interval ``k`` (``step_ag = (block_ag, k, fractions [4])``), then
     accumulates ``total = sum of weight f`` over the stages and starts the next stage at
-    ``stage[i + 1] = stage[0] + step f``; the last stage instead adds the step's ``total``
-    to the state ``stage[0]``, so a step ends without a separate pass over the state.
+    ``stage[i + 1] = stage[0] + step f``; the last stage's target is the state
+    ``stage[0]`` itself, which it advances by the step's ``total``, so a step ends without
+    a separate pass over the state.
 
     All buffers are parts of one stack array, at offsets that never overlap, which lets
     LLVM vectorise the loop over the lanes without run-time alias checks.
@@ -194,7 +195,7 @@ def _stage(stage, i, total, stages, step_ag, model, states):
     block_ag, k, fractions = step_ag
     weight, step, fraction = stages[0, i], stages[1, i], fractions[i]
     rate = local_array((states,), stage.dtype)
-    source, base, target = stage[i], stage[0], stage[i + 1]
+    source, base, target = stage[i], stage[0], stage[(i + 1) % STAGES]
     for lane in range(LANES):
         ground = block_ag[k, lane] + fraction * (block_ag[k + 1, lane] - block_ag[k, lane])
         for j in range(r):
@@ -218,8 +219,8 @@ def _stage(stage, i, total, stages, step_ag, model, states):
                 total[j, lane] = weight * rate[j]
             else:
                 total[j, lane] += weight * rate[j]
-            if i == STAGES - 2:
-                base[j, lane] += total[j, lane]
+            if i == STAGES - 1:
+                target[j, lane] = base[j, lane] + total[j, lane]
             else:
                 target[j, lane] = base[j, lane] + step * rate[j]
 
