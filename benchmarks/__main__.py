@@ -20,6 +20,7 @@ MODULES = (
     "spectrum_matching",
     "training",
     "prediction",
+    "bfloat16",
     "memory",
     "opensees_bridge",
     "opensees_frame",

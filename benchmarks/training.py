@@ -87,17 +87,20 @@ def synchronize(device: str) -> None:
 
 
 def best_matmul_rate(
-    shapes: list[tuple[int, int, int]], repeat: int = 5, device: str = "cpu"
+    shapes: list[tuple[int, int, int]],
+    repeat: int = 5,
+    device: str = "cpu",
+    dtype: torch.dtype = torch.float32,
 ) -> float:
-    """Best sustained float32 matrix-product rate (FLOP/s) on ``device`` over
+    """Best sustained matrix-product rate (FLOP/s) in ``dtype`` on ``device`` over
     ``[M, K] @ [K, N]`` shapes ``(M, K, N)``, each timed ``repeat`` times after a warm-up
     with ``torch.mm`` into a preallocated output and with the FNO's own product
     (:func:`cphysfno_fno.dense.product`: oneDNN on CPU), whichever is faster."""
     best = 0.0
     for rows, inner, cols in shapes:
-        a = torch.randn(rows, inner, device=device)
-        b = torch.randn(inner, cols, device=device)
-        out = torch.empty(rows, cols, device=device)
+        a = torch.randn(rows, inner, device=device).to(dtype)
+        b = torch.randn(inner, cols, device=device).to(dtype)
+        out = torch.empty(rows, cols, device=device, dtype=dtype)
         for multiply in (partial(torch.mm, a, b, out=out), partial(product, a, b)):
             for _ in range(repeat + 1):
                 synchronize(device)

@@ -84,3 +84,22 @@ def test_a_bare_array_needs_its_step_and_the_output_an_npz_name(saved, tmp_path,
     assert "--out o.csv: name an .npz file" in capsys.readouterr().err
     assert main(["predict", str(tmp_path), str(array), "--dt", "0.02", "--out", "o.npz"]) == 2
     assert "holds no readable model.json" in capsys.readouterr().err
+
+
+def test_bfloat16_precision_is_passed_through(saved, tmp_path):
+    model, folder, gm = saved
+    motions = tmp_path / "motions.npz"
+    np.savez(motions, acceleration=gm.acceleration, dt=gm.dt)
+    out = tmp_path / "low.npz"
+    assert (
+        main(["predict", str(folder), str(motions), "--out", str(out), "--precision", "bfloat16"])
+        == 0
+    )
+    with np.load(out) as written:
+        np.testing.assert_allclose(
+            written["operator_output"],
+            model.predict_stages(gm, precision="bfloat16").operator_output,
+        )
+        single = model.predict_stages(gm).operator_output
+        change = np.linalg.norm(written["operator_output"] - single) / np.linalg.norm(single)
+    assert 1e-5 < change < 1e-2

@@ -11,6 +11,7 @@ from pathlib import Path
 from .allocator import retain_freed_memory
 from .config import load_config
 from .errors import CphysfnoError
+from .precision import PRECISIONS
 from .registry import get_registry
 
 
@@ -119,7 +120,13 @@ def _predict(args: argparse.Namespace) -> int:
     from .prediction_files import predict_file
 
     run = predict_file(
-        args.model, args.motions, args.out, dt=args.dt, on_grid=args.on_grid, device=args.device
+        args.model,
+        args.motions,
+        args.out,
+        dt=args.dt,
+        on_grid=args.on_grid,
+        device=args.device,
+        precision=args.precision,
     )
     print(
         f"{run.records} records predicted in {run.seconds:.2f} s "
@@ -204,6 +211,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     predict.add_argument(
         "--device", default="auto", help="where the operator runs (auto, cpu, cuda, ...)"
+    )
+    predict.add_argument(
+        "--precision",
+        choices=PRECISIONS,
+        default="float32",
+        help="the operator's arithmetic: float32 as trained (default) or bfloat16 products, "
+        "about twice as fast on a CPU with native bfloat16, moving predictions by about 0.2 %%",
     )
     predict.set_defaults(func=_predict)
     text = "summarise finished run folders (e.g. one per seed) as study.json does"

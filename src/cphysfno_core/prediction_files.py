@@ -17,6 +17,7 @@ import numpy as np
 
 from .composite import CompositeModel
 from .errors import DatasetError, InputError
+from .precision import Precision
 from .signals import GroundMotions
 
 
@@ -78,6 +79,7 @@ def predict_file(
     dt: float | None = None,
     on_grid: bool = False,
     device: str = "auto",
+    precision: Precision = "float32",
 ) -> PredictionRun:
     """Load the model in ``model_dir``, predict the motions of ``motions_path`` and write
     ``out`` (``.npz``).
@@ -86,6 +88,8 @@ def predict_file(
         on_grid: bring motions on another time grid onto the model's (anti-aliased
             resampling, then cut or zero-padded at the end); otherwise they are refused.
         device: where the operator runs (a ``training.device`` setting).
+        precision: the operator's arithmetic, ``"float32"`` or ``"bfloat16"`` (see
+            :meth:`CompositeModel.predict_stages`).
 
     Raises:
         InputError: ``out`` is not an ``.npz`` name, or the motions are on another grid
@@ -99,7 +103,7 @@ def predict_file(
     if on_grid and model.grid is not None:
         motions = motions.on_grid(model.grid)
     started = time.perf_counter()
-    stages = model.predict_stages(motions)
+    stages = model.predict_stages(motions, precision=precision)
     seconds = time.perf_counter() - started
     names = list(model.structure.output_names) if model.structure is not None else []
     names = names or [f"output-{k}" for k in range(stages.mean.shape[2])]

@@ -7,10 +7,13 @@ inner dimension and many columns (``[2m, T] @ [T, batch * width]`` and
 ``[T, 2m] @ [2m, batch * width]``). For float32 on CPU, oneDNN's inner-product kernel runs
 both kinds markedly faster than the BLAS ``gemm`` behind ``torch.mm`` (on an AVX-512 AMD
 EPYC about twice as fast: MKL takes its AVX2 path there) unless the output is very narrow
-(a projection to a handful of DOFs), where BLAS is faster; every other dtype or device goes
-through ``torch.mm`` / ``torch.addmm``. The weight gradient is a BLAS product oriented so
-that its wider side is the BLAS column count: with a narrow side of a few channels as the
-column count, BLAS runs several times slower, and oneDNN is no faster.
+(a projection to a handful of DOFs), where BLAS is faster. bfloat16 takes oneDNN as well
+where the CPU computes in it natively (``avx512_bf16`` or AMX), at about twice to 2.5 times
+the float32 rate; every other dtype or device goes through ``torch.mm`` / ``torch.addmm``.
+A product plus a tensor runs as one oneDNN call with the sum as its post-op, which saves a
+pass over the result. The weight gradient is a BLAS product oriented so that its wider side
+is the BLAS column count: with a narrow side of a few channels as the column count, BLAS
+runs several times slower, and oneDNN is no faster.
 """
 
 from __future__ import annotations
@@ -18,18 +21,24 @@ from __future__ import annotations
 import torch
 
 _ONEDNN = torch.backends.mkldnn.is_available() and hasattr(torch.ops.mkldnn, "_linear_pointwise")
+_ONEDNN_DTYPES = (
+    (torch.float32, torch.bfloat16)
+    if _ONEDNN and torch.ops.mkldnn._is_mkldnn_bf16_supported()
+    else (torch.float32,)
+)
 ONEDNN_MIN_OUT = 16
 """Narrowest output (channels) that :func:`dense` hands to oneDNN."""
 
 
 def uses_onednn(x: torch.Tensor, out_features: int) -> bool:
-    """Whether :func:`dense` runs ``x`` through oneDNN: float32 on CPU with oneDNN built in
-    and enabled (``torch.backends.mkldnn.enabled``), and at least :data:`ONEDNN_MIN_OUT`
-    output channels."""
+    """Whether :func:`dense` runs ``x`` through oneDNN: float32 (or bfloat16, where the CPU
+    has native bfloat16 arithmetic) on CPU with oneDNN built in and enabled
+    (``torch.backends.mkldnn.enabled``), and at least :data:`ONEDNN_MIN_OUT` output
+    channels."""
     return (
         _ONEDNN
         and torch.backends.mkldnn.enabled
-        and x.dtype == torch.float32
+        and x.dtype in _ONEDNN_DTYPES
         and x.device.type == "cpu"
         and out_features >= ONEDNN_MIN_OUT
     )
@@ -66,20 +75,21 @@ def product(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
     return dense(a, b.t())
 
 
-def add_product_(out: torch.Tensor, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-    """``out += a @ b`` in place, through oneDNN where :func:`dense` would use it.
+def product_plus(a: torch.Tensor, b: torch.Tensor, add: torch.Tensor) -> torch.Tensor:
+    """``a @ b + add`` in one pass: through oneDNN with the sum as its post-op where
+    :func:`dense` would use oneDNN (one rounding in bfloat16), else ``torch.addmm``.
 
     Args:
-        out: ``[rows, columns]``, contiguous.
         a: ``[rows, inner]``.
         b: ``[inner, columns]`` (any strides).
+        add: ``[rows, columns]``, contiguous.
 
     Returns:
-        ``out``.
+        ``[rows, columns]``, a new contiguous tensor.
     """
     if uses_onednn(a, b.shape[1]):
-        return out.add_(product(a, b))
-    return out.addmm_(a, b)
+        return torch.ops.mkldnn._linear_pointwise.binary(a, add, b.t(), None, "add")
+    return torch.addmm(add, a, b)
 
 
 def weight_gradient(grad: torch.Tensor, rows: torch.Tensor) -> torch.Tensor:

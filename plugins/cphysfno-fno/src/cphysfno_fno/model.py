@@ -50,14 +50,14 @@ class FourierLayer(torch.nn.Module):
         self.pointwise = torch.nn.Linear(width, width)
 
     def forward(self, v: torch.Tensor) -> torch.Tensor:
-        """``[n, batch, width]`` -> ``[n, batch, width]``."""
-        return fourier_layer(
-            v,
+        """``[n, batch, width]`` -> ``[n, batch, width]``, in the dtype of ``v``."""
+        weights = (
             self.pointwise.weight,
             self.pointwise.bias,
             self.spectral.weight_real,
             self.spectral.weight_imag,
         )
+        return fourier_layer(v, *(weight.to(v.dtype) for weight in weights))
 
 
 class FNO1d(NeuralOperator):
@@ -70,6 +70,11 @@ class FNO1d(NeuralOperator):
 
     Works at any number of time samples T; where ``modes > T // 2 + 1`` every available
     mode is used. The state dict holds only the learned parameters.
+
+    Under ``torch.autocast`` (e.g. bfloat16 on CPU), the Fourier layers and the projection's
+    hidden layer compute in autocast's dtype; the lifting and the projection's output layer
+    stay in the input's dtype, so that the time coordinate enters and the prediction leaves
+    without being rounded to the lower precision.
 
     Args:
         in_channels: input channels (e.g. the output DOFs of z plus the time coordinate).
@@ -98,16 +103,26 @@ class FNO1d(NeuralOperator):
                 f"got shape {tuple(x.shape)}"
             )
         steps = x.shape[1]
-        v = pointwise_linear(x.transpose(0, 1), self.lifting.weight, self.lifting.bias)
-        if self.padding:
-            v = torch.nn.functional.pad(v, (0, 0, 0, 0, 0, self.padding))
-        for index, layer in enumerate(self.layers):
-            v = layer(v)
-            if index < len(self.layers) - 1:
-                v = self.activation(v)
-        if self.padding:
-            v = v[:steps]
-        hidden = self.projection_hidden
-        v = self.activation(pointwise_linear(v, hidden.weight, hidden.bias))
-        out = pointwise_linear(v, self.projection_out.weight, self.projection_out.bias)
+        compute = autocast_dtype(x)
+        with torch.autocast(x.device.type, enabled=False):
+            v = pointwise_linear(x.transpose(0, 1), self.lifting.weight, self.lifting.bias)
+            v = v.to(compute)
+            if self.padding:
+                v = torch.nn.functional.pad(v, (0, 0, 0, 0, 0, self.padding))
+            for index, layer in enumerate(self.layers):
+                v = layer(v)
+                if index < len(self.layers) - 1:
+                    v = self.activation(v)
+            if self.padding:
+                v = v[:steps]
+            hidden = self.projection_hidden
+            v = pointwise_linear(v, hidden.weight.to(compute), hidden.bias.to(compute))
+            v = self.activation(v).to(x.dtype)
+            out = pointwise_linear(v, self.projection_out.weight, self.projection_out.bias)
         return out.transpose(0, 1).contiguous()
+
+
+def autocast_dtype(x: torch.Tensor) -> torch.dtype:
+    """The dtype ``torch.autocast`` asks for on ``x``'s device, or ``x.dtype`` outside it."""
+    device = x.device.type
+    return torch.get_autocast_dtype(device) if torch.is_autocast_enabled(device) else x.dtype

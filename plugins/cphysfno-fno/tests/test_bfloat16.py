@@ -1,0 +1,77 @@
+"""bfloat16 products and the FNO under ``torch.autocast``: lower precision where it is asked
+for, float32 at the ends, and errors of the size bfloat16 rounding explains."""
+
+from __future__ import annotations
+
+import torch
+from cphysfno_fno import FNO1d
+from cphysfno_fno.dense import dense, product, product_plus, uses_onednn
+
+BFLOAT16_STEP = 2.0**-7
+"""Spacing of bfloat16 numbers relative to their value, at most (8-bit significand)."""
+
+
+def assert_one_rounding(low: torch.Tensor, exact: torch.Tensor) -> None:
+    """``low`` (bfloat16) is ``exact`` rounded once, give or take float32 accumulation."""
+    assert low.dtype == torch.bfloat16
+    error = (low.double() - exact).abs()
+    assert (error <= 0.5 * BFLOAT16_STEP * exact.abs() + 1e-5 * exact.abs().max()).all()
+
+
+def test_bfloat16_goes_through_onednn_where_the_cpu_has_it() -> None:
+    x = torch.randn(10, 8, dtype=torch.bfloat16)
+    assert uses_onednn(x, 64) == torch.ops.mkldnn._is_mkldnn_bf16_supported()
+
+
+def test_bfloat16_products_are_one_rounding_from_exact() -> None:
+    """Products of bfloat16 numbers accumulate in float32 and round once at the end (the
+    sum in :func:`product_plus` included), so each entry is the exact product of the
+    inputs rounded once."""
+    generator = torch.Generator().manual_seed(5)
+
+    def draw(*shape: int) -> torch.Tensor:
+        return torch.randn(shape, generator=generator).bfloat16()
+
+    field, basis, spectrum, add = draw(997, 192), draw(40, 997), draw(40, 192), draw(997, 192)
+    weight, bias = draw(64, 192), draw(64)
+    exact = basis.double() @ field.double()
+    assert_one_rounding(product(basis, field), exact)
+    assert_one_rounding(
+        product_plus(basis.t(), spectrum, add),
+        basis.double().t() @ spectrum.double() + add.double(),
+    )
+    assert_one_rounding(
+        dense(field, weight, bias), field.double() @ weight.double().t() + bias.double()
+    )
+
+
+def fno_and_input() -> tuple[FNO1d, torch.Tensor]:
+    torch.manual_seed(3)
+    model = FNO1d(4, 3, layers=3, modes=16, width=32, projection_width=32).eval()
+    return model, torch.randn(2, 500, 4)
+
+
+def test_fno_under_autocast_computes_its_layers_in_bfloat16() -> None:
+    model, x = fno_and_input()
+    seen = []
+    model.layers[0].register_forward_hook(lambda module, args, out: seen.append(out.dtype))
+    with torch.no_grad():
+        single = model(x)
+        with torch.autocast("cpu", dtype=torch.bfloat16):
+            low = model(x)
+        again = model(x)
+    assert seen == [torch.float32, torch.bfloat16, torch.float32]
+    assert low.dtype == torch.float32
+    torch.testing.assert_close(again, single, rtol=0, atol=0)
+    relative = ((low - single).norm() / single.norm()).item()
+    assert 1e-4 < relative < 2e-2
+
+
+def test_fno_under_autocast_leaves_the_prediction_unrounded() -> None:
+    """The projection's output layer runs in float32: nearly every output lies between
+    bfloat16 numbers."""
+    model, x = fno_and_input()
+    with torch.no_grad(), torch.autocast("cpu", dtype=torch.bfloat16):
+        low = model(x)
+    off_grid = (low != low.bfloat16().float()).float().mean().item()
+    assert off_grid > 0.9
