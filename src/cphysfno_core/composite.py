@@ -445,7 +445,7 @@ class CompositeModel:
         The operator runs on chunks of :data:`PREDICT_CHUNK` records whose inputs are built
         one chunk at a time; beyond the returned arrays, memory use does not grow with the
         number of records. With ``precision="bfloat16"`` it computes under
-        ``torch.autocast`` in bfloat16 (about 2.5 times faster on a CPU with native
+        ``torch.autocast`` in bfloat16 (about twice as fast on a CPU with native
         bfloat16, at a small accuracy cost: see :mod:`cphysfno_core.precision`); physics,
         normalisers and refiner stay in float64 or float32 as always.
 

@@ -2,7 +2,7 @@
 
 bfloat16 keeps float32's exponent range with an 8-bit significand (relative rounding
 ``2^-9``, about 0.2 %). On a CPU with native bfloat16 arithmetic (``avx512_bf16`` or AMX)
-its matrix products run about 2.5 times faster than float32's; what that costs in accuracy
+its matrix products run about twice as fast as float32's; what that costs in accuracy
 is measured in ``benchmarks/RESULTS.md`` and is small beside a trained model's own error.
 It is opt-in: the operator runs under ``torch.autocast``, and each operator decides which
 of its steps take the lower precision.
