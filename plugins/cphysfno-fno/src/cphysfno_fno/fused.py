@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import torch
 
-from .dense import dense, product, product_plus, weight_gradient
+from .dense import add_product_, dense, product, weight_gradient
 from .dft import dft_bases, n_kept_modes
 from .spectral import mix_modes
 
@@ -51,10 +51,11 @@ class _FourierLayer(torch.autograd.Function):
         v = v.contiguous()
         spectrum = product(forward_basis, v.view(n, batch * width))
         mixed = mix_modes(spectrum.view(2, m, batch, width), weight_real[:m], weight_imag[:m])
-        out = product_plus(
+        out = dense(v.view(n * batch, width), weight, bias)
+        add_product_(
+            out.view(n, batch * out_channels),
             inverse_basis,
             mixed.view(2 * m, batch * out_channels),
-            dense(v.view(n * batch, width), weight, bias).view(n, batch * out_channels),
         )
         ctx.save_for_backward(v, weight, weight_real, weight_imag, spectrum)
         return out.view(n, batch, out_channels)
@@ -75,11 +76,13 @@ class _FourierLayer(torch.autograd.Function):
         )
         grad_v = grad_weight = grad_bias = None
         if ctx.needs_input_grad[0]:
-            grad_v = product_plus(
+            grad_v = dense(grad, weight.t())
+            add_product_(
+                grad_v.view(n, batch * width),
                 forward_basis.t(),
                 grad_spectrum.view(2 * m, batch * width),
-                dense(grad, weight.t()).view(n, batch * width),
-            ).view(n, batch, width)
+            )
+            grad_v = grad_v.view(n, batch, width)
         if ctx.needs_input_grad[1]:
             grad_weight = weight_gradient(grad, v.view(n * batch, width))
         if ctx.needs_input_grad[2]:
