@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import torch
 from cphysfno_fno import FNO1d
-from cphysfno_fno.dense import add_product_, dense, product
+from cphysfno_fno.dense import add_product_, dense, product, uses_onednn
 
 BFLOAT16_STEP = 2.0**-7
 """Spacing of bfloat16 numbers relative to their value, at most (8-bit significand)."""
@@ -17,6 +17,11 @@ def assert_rounded(low: torch.Tensor, exact: torch.Tensor) -> None:
     error = (low.double() - exact).abs()
     bound = 0.5 * BFLOAT16_STEP * exact.abs() + 1e-5 * exact.abs().max()
     assert (error <= bound).all()
+
+
+def test_bfloat16_goes_through_onednn_where_the_cpu_computes_in_it() -> None:
+    x = torch.randn(10, 8, dtype=torch.bfloat16)
+    assert uses_onednn(x, 64) == torch.ops.mkldnn._is_mkldnn_bf16_supported()
 
 
 def test_bfloat16_products_are_one_rounding_from_exact() -> None:
