@@ -85,12 +85,35 @@ class FixedLengthOperator(toy_components.ToyOperator):
         return super().forward(x)[:, :10]
 
 
+class Float32OnlyOperator(toy_components.ToyOperator):
+    """Refuses autocast, as an operator with a float32-only kernel of its own would."""
+
+    name = "float32-only"
+
+    def forward(self, x):
+        if torch.is_autocast_enabled("cpu"):
+            raise NotImplementedError("kernel not implemented for 'BFloat16'")
+        return super().forward(x)
+
+
+class CoarseOperator(toy_components.ToyOperator):
+    """Rounds its output to integers under autocast."""
+
+    name = "coarse"
+
+    def forward(self, x):
+        out = super().forward(x)
+        return out.round() if torch.is_autocast_enabled("cpu") else out
+
+
 @pytest.mark.parametrize(
     "check, component, message",
     [
         (testing.check_structure, DriftingStructure(), "drifting: a structure at rest"),
         (testing.check_refiner, ForgetfulRefiner(), "forgetful: a state_dict round trip"),
         (testing.check_operator, FixedLengthOperator, "fixed-length: output shape"),
+        (testing.check_operator, Float32OnlyOperator, "float32-only: fails under torch.autocast"),
+        (testing.check_operator, CoarseOperator, "coarse: under torch.autocast to bfloat16"),
     ],
 )
 def test_checks_catch_broken_contracts(check, component, message):

@@ -137,7 +137,9 @@ def check_preprocessor(preprocessor: PhysicsPreprocessor, structure: Structure) 
 def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
     """Build with ``(in_channels=3, out_channels=2, **hyper)``: output ``[b, T, 2]`` at any
     T, gradients reach every parameter, a state-dict round trip reproduces the output, the
-    state dict holds tensors only, and a wrong input raises the package's own error."""
+    state dict holds tensors only, under bfloat16 autocast (prediction's
+    ``precision="bfloat16"``) the output stays within 5 % of float32's, and a wrong input
+    raises the package's own error."""
     torch.manual_seed(0)
     operator = cls(3, 2, **hyper)
     for steps in (64, 101):
@@ -160,7 +162,22 @@ def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
     with torch.no_grad():
         if not torch.equal(operator(x), rebuilt(x)):
             raise _fail(operator, "a state_dict round trip changes the output")
+    _check_bfloat16(operator, x)
     _expect(operator, CphysfnoError, operator, torch.randn(2, 50, 4))
+
+
+def _check_bfloat16(operator: NeuralOperator, x: torch.Tensor) -> None:
+    """The operator under ``torch.autocast`` to bfloat16 answers within 5 % of float32."""
+    with torch.no_grad():
+        single = operator(x)
+        try:
+            with torch.autocast(x.device.type, dtype=torch.bfloat16):
+                low = operator(x).float()
+        except Exception as error:
+            message = f"fails under torch.autocast to bfloat16: {type(error).__name__}: {error}"
+            raise _fail(operator, message) from error
+    if low.shape != single.shape or not (low - single).norm() <= 0.05 * single.norm():
+        raise _fail(operator, "under torch.autocast to bfloat16 the output strays from float32's")
 
 
 def check_refiner(refiner: Refiner) -> None:
