@@ -11,7 +11,6 @@ each against the Bouc–Wen truth, and of bfloat16 against float32.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 import torch
@@ -22,31 +21,24 @@ from cphysfno_core.metrics import relative_l2
 from .common import Row, best_time
 from .prediction import EXAMPLE1_OPERATOR
 
-
-@dataclass(frozen=True)
-class Sizes:
-    """Records per split and training epochs."""
-
-    n_train: int
-    n_val: int
-    n_test: int
-    epochs: int
+FULL = {"n_train": 200, "n_val": 50, "n_test": 200, "epochs": 40}
+QUICK = {"n_train": 20, "n_val": 10, "n_test": 10, "epochs": 2}
+"""Records per split and training epochs of a full and a quick run."""
 
 
-FULL = Sizes(n_train=200, n_val=50, n_test=200, epochs=40)
-QUICK = Sizes(n_train=20, n_val=10, n_test=10, epochs=2)
-
-
-def trained_model(sizes: Sizes) -> tuple[cp.CompositeModel, cp.GroundMotions, np.ndarray, float]:
-    """A C-PhysFNO-ELS with linear regression trained on Example 1 records, its test
-    motions and true displacements ``[n_test, T, 5]`` (m), and the training time (s)."""
+def trained_model(
+    n_train: int, n_val: int, n_test: int, epochs: int
+) -> tuple[cp.CompositeModel, cp.GroundMotions, np.ndarray, float]:
+    """A C-PhysFNO-ELS with linear regression trained ``epochs`` epochs on ``n_train``
+    Example 1 records (``n_val`` for validation), ``n_test`` test motions with their true
+    displacements ``[n_test, T, 5]`` (m), and the training time (s)."""
     rng = np.random.default_rng(0)
-    total = sizes.n_train + sizes.n_val + sizes.n_test
+    total = n_train + n_val + n_test
     motions = cp.create("ground_motion", "white-noise").sample(total, rng)
     structure = cp.create("structure", "bouc-wen-shear-building")
     u = structure.simulate(motions).displacement
-    train, val = slice(0, sizes.n_train), slice(sizes.n_train, sizes.n_train + sizes.n_val)
-    test = slice(sizes.n_train + sizes.n_val, total)
+    train, val = slice(0, n_train), slice(n_train, n_train + n_val)
+    test = slice(n_train + n_val, total)
     torch.manual_seed(0)
     model = cp.compose(
         structure=structure,
@@ -60,7 +52,7 @@ def trained_model(sizes: Sizes) -> tuple[cp.CompositeModel, cp.GroundMotions, np
         motions[train],
         u[train],
         validation=(motions[val], u[val]),
-        epochs=sizes.epochs,
+        epochs=epochs,
         progress=None,
     )
     return model, motions[test], u[test], time.perf_counter() - start
@@ -68,7 +60,7 @@ def trained_model(sizes: Sizes) -> tuple[cp.CompositeModel, cp.GroundMotions, np
 
 def run(quick: bool = False) -> list[Row]:
     sizes = QUICK if quick else FULL
-    model, motions, truth, training_s = trained_model(sizes)
+    model, motions, truth, training_s = trained_model(**sizes)
     single_s = best_time(lambda: model.predict(motions))
     low_s = best_time(lambda: model.predict(motions, precision="bfloat16"))
     single = model.predict(motions)[0]
@@ -79,7 +71,7 @@ def run(quick: bool = False) -> list[Row]:
     return [
         Row(
             stage=(
-                f"bfloat16 prediction of {sizes.n_test} Example 1 test records by a trained "
+                f"bfloat16 prediction of {sizes['n_test']} Example 1 test records by a trained "
                 "C-PhysFNO-ELS (6 x 32 modes, width 64) with linear regression"
             ),
             ours_s=low_s,
@@ -90,8 +82,8 @@ def run(quick: bool = False) -> list[Row]:
                 f"relative L2 error against the Bouc-Wen truth, mean over stories: float32 "
                 f"{error_single:.4f}, bfloat16 {error_low:.4f}; bfloat16 against float32 "
                 f"{change:.1e}",
-                f"trained {sizes.epochs} epochs on {sizes.n_train} records "
-                f"({sizes.n_val} for validation) in {training_s:.0f} s; best of 3 predictions",
+                f"trained {sizes['epochs']} epochs on {sizes['n_train']} records "
+                f"({sizes['n_val']} for validation) in {training_s:.0f} s; best of 3 predictions",
             ],
         )
     ]
