@@ -9,7 +9,7 @@ import importlib
 import sys
 
 from cphysfno_core import CphysfnoError
-from cphysfno_core.allocator import retain_freed_memory
+from cphysfno_core.allocator import tune_memory
 from cphysfno_core.training import resolve_device
 
 from .common import format_rows, machine
@@ -50,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
             resolve_device(args.device)
         except CphysfnoError as error:
             parser.error(str(error))
-    retain_freed_memory()
+    tune_memory()
     rows = []
     for name in names:
         module = importlib.import_module(f"benchmarks.{name}")

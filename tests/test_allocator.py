@@ -39,3 +39,21 @@ def _page_faults(mode: str, megafloats: str) -> int:
 def test_retained_blocks_are_reused_without_page_faults(megafloats):
     default, retained = _page_faults("default", megafloats), _page_faults("retain", megafloats)
     assert retained < default / 2, (default, retained)
+
+
+HUGE_PAGE_PROGRAM = """
+import subprocess, sys
+from numpy._core.multiarray import _get_madvise_hugepage
+from cphysfno_core.allocator import skip_huge_page_advice
+assert skip_huge_page_advice()
+child = "from numpy._core.multiarray import _get_madvise_hugepage as g; print(g())"
+started = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True)
+print(_get_madvise_hugepage(), started.stdout.strip())
+"""
+
+
+def test_huge_page_advice_is_off_here_and_in_started_processes():
+    run = subprocess.run(
+        [sys.executable, "-c", HUGE_PAGE_PROGRAM], capture_output=True, text=True, check=True
+    )
+    assert run.stdout.split() == ["False", "False"]

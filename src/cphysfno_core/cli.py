@@ -8,7 +8,7 @@ import sys
 import time
 from pathlib import Path
 
-from .allocator import retain_freed_memory
+from .allocator import tune_memory
 from .config import load_config
 from .errors import CphysfnoError
 from .precision import PRECISIONS
@@ -230,7 +230,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    retain_freed_memory()
+    tune_memory()
     try:
         return args.func(args)
     except CphysfnoError as error:

@@ -32,7 +32,7 @@ import numpy as np
 import torch
 
 from . import pipeline
-from .allocator import retain_freed_memory
+from .allocator import tune_memory
 from .config import DataConfig, ExperimentConfig, parse_config
 from .errors import ConfigError
 from .executors import run_tasks
@@ -220,7 +220,7 @@ def _execute_logged(run: Run, dataset: Path, report: bool, threads: int) -> floa
     """:func:`execute_run` in a worker process, its progress appended to the run's log;
     returns the seconds it took."""
     started = time.perf_counter()
-    retain_freed_memory()
+    tune_memory()
     if run.config.training.threads is None:
         torch.set_num_threads(threads)
     run.folder.mkdir(parents=True, exist_ok=True)
