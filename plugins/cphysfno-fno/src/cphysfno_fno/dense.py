@@ -117,7 +117,7 @@ def blocked_inner_product(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
 
     A product with a few thousand output entries and an inner dimension of ``T * batch``
     (a weight gradient) is split badly across threads by BLAS; a batch of row blocks is
-    split well (about 1.3 to 2.5 times faster on two cores).
+    split well (1.1 to 2.9 times faster on two cores, depending on the shape).
 
     Args:
         a: ``[rows, p]``.
