@@ -1,4 +1,5 @@
-"""The allocator setting: freed tensor-sized blocks are reused instead of faulted in again."""
+"""The allocator settings: freed tensor-sized blocks are reused instead of faulted in again,
+and NumPy gives no huge-page advice here or in the processes started from here."""
 
 import subprocess
 import sys
