@@ -7,6 +7,7 @@ import torch
 from cphysfno_fno import FNO1d
 from cphysfno_fno import dense as dense_module
 from cphysfno_fno.dense import add_product_, dense, product, uses_onednn
+from cphysfno_fno.fused import fourier_layer
 
 BFLOAT16_STEP = 2.0**-7
 """Spacing of bfloat16 numbers relative to their value, at most (8-bit significand)."""
@@ -84,3 +85,23 @@ def test_fno_under_autocast_without_onednn_bfloat16(monkeypatch) -> None:
         assert not uses_onednn(x.bfloat16(), 64)
         fallback = model(x)
     assert ((fallback - native).norm() / native.norm()).item() < 1e-2
+
+
+def test_bfloat16_fourier_layer_mixes_modes_in_the_spectral_weights_dtype() -> None:
+    """A bfloat16 field with float32 spectral weights: the output is bfloat16 and close to
+    the float32 layer's, and the spectral weights' gradients come back in float32."""
+    generator = torch.Generator().manual_seed(2)
+    v = torch.randn(300, 2, 16, generator=generator)
+    weight, bias = (
+        torch.randn(16, 16, generator=generator) / 4,
+        torch.randn(16, generator=generator),
+    )
+    spectral = [
+        (torch.randn(8, 16, 16, generator=generator) / 16).requires_grad_() for _ in range(2)
+    ]
+    single = fourier_layer(v, weight, bias, *spectral)
+    low = fourier_layer(v.bfloat16(), weight.bfloat16(), bias.bfloat16(), *spectral)
+    assert low.dtype == torch.bfloat16
+    assert ((low.float() - single).norm() / single.norm()).item() < 1e-2
+    low.float().square().sum().backward()
+    assert all(w.grad is not None and w.grad.dtype == torch.float32 for w in spectral)

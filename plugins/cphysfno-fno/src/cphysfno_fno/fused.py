@@ -28,6 +28,11 @@ def fourier_layer(
 ) -> torch.Tensor:
     """``K v + v Wᵀ + b`` for a time-major field, differentiable in every tensor argument.
 
+    The transforms and the pointwise map compute in the dtype of ``v`` (``weight`` and
+    ``bias`` in it too); the mode mixing computes in the spectral weights' dtype, into
+    which the few kept modes are cast (so that bfloat16 transforms can keep float32
+    spectral weights, which are the larger part of the parameters).
+
     Args:
         v: ``[n, batch, in]`` input field.
         weight: ``[out, in]`` pointwise matrix W.
@@ -50,7 +55,8 @@ class _FourierLayer(torch.autograd.Function):
         forward_basis, inverse_basis = dft_bases(n, weight_real.shape[0], v.dtype, v.device)
         v = v.contiguous()
         spectrum = product(forward_basis, v.view(n, batch * width))
-        mixed = mix_modes(spectrum.view(2, m, batch, width), weight_real[:m], weight_imag[:m])
+        spectrum = spectrum.view(2, m, batch, width).to(weight_real.dtype)
+        mixed = mix_modes(spectrum, weight_real[:m], weight_imag[:m]).to(v.dtype)
         out = dense(v.view(n * batch, width), weight, bias)
         add_product_(
             out.view(n, batch * out_channels),
@@ -72,7 +78,7 @@ class _FourierLayer(torch.autograd.Function):
         grad_mixed = product(inverse_basis.t(), grad.view(n, batch * out_channels))
         grad_mixed = grad_mixed.view(2, m, batch, out_channels)
         grad_spectrum, grad_real, grad_imag = _mix_modes_backward(
-            spectrum.view(2, m, batch, width), grad_mixed, weight_real[:m], weight_imag[:m]
+            spectrum, grad_mixed.to(weight_real.dtype), weight_real[:m], weight_imag[:m]
         )
         grad_v = grad_weight = grad_bias = None
         if ctx.needs_input_grad[0]:
@@ -80,7 +86,7 @@ class _FourierLayer(torch.autograd.Function):
             add_product_(
                 grad_v.view(n, batch * width),
                 forward_basis.t(),
-                grad_spectrum.view(2 * m, batch * width),
+                grad_spectrum.view(2 * m, batch * width).to(v.dtype),
             )
             grad_v = grad_v.view(n, batch, width)
         if ctx.needs_input_grad[1]:

@@ -50,14 +50,15 @@ class FourierLayer(torch.nn.Module):
         self.pointwise = torch.nn.Linear(width, width)
 
     def forward(self, v: torch.Tensor) -> torch.Tensor:
-        """``[n, batch, width]`` -> ``[n, batch, width]``, in the dtype of ``v``."""
-        weights = (
-            self.pointwise.weight,
-            self.pointwise.bias,
+        """``[n, batch, width]`` -> ``[n, batch, width]``, in the dtype of ``v`` (the mode
+        mixing in the spectral weights' own)."""
+        return fourier_layer(
+            v,
+            self.pointwise.weight.to(v.dtype),
+            self.pointwise.bias.to(v.dtype),
             self.spectral.weight_real,
             self.spectral.weight_imag,
         )
-        return fourier_layer(v, *(weight.to(v.dtype) for weight in weights))
 
 
 class FNO1d(NeuralOperator):
@@ -71,10 +72,11 @@ class FNO1d(NeuralOperator):
     Works at any number of time samples T; where ``modes > T // 2 + 1`` every available
     mode is used. The state dict holds only the learned parameters.
 
-    Under ``torch.autocast`` (e.g. bfloat16 on CPU), the Fourier layers and the projection's
-    hidden layer compute in autocast's dtype; the lifting and the projection's output layer
-    stay in the input's dtype, so that the time coordinate enters and the prediction leaves
-    without being rounded to the lower precision.
+    Under ``torch.autocast`` (e.g. bfloat16 on CPU), the Fourier layers' transforms and
+    pointwise maps and the projection's hidden layer compute in autocast's dtype; the mode
+    mixing, the lifting and the projection's output layer stay in the weights' dtype, so
+    that the time coordinate enters and the prediction leaves without being rounded to the
+    lower precision, and the spectral weights are not cast for every call.
 
     Args:
         in_channels: input channels (e.g. the output DOFs of z plus the time coordinate).
