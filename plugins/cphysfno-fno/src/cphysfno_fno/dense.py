@@ -21,10 +21,12 @@ from __future__ import annotations
 
 import torch
 
+from cphysfno_core.precision import native_bfloat16
+
 _ONEDNN = torch.backends.mkldnn.is_available() and hasattr(torch.ops.mkldnn, "_linear_pointwise")
 _ONEDNN_DTYPES = (
     (torch.float32, torch.bfloat16)
-    if _ONEDNN and torch.ops.mkldnn._is_mkldnn_bf16_supported()
+    if _ONEDNN and native_bfloat16(torch.device("cpu"))
     else (torch.float32,)
 )
 ONEDNN_MIN_OUT = 16
