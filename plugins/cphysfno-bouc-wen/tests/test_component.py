@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from cphysfno_core import ConfigError, CphysfnoError, GroundMotions, InputError
 
-from cphysfno_bouc_wen import BoucWenShearBuilding
+from cphysfno_bouc_wen import BoucWenShearBuilding, explicit
 
 
 def test_registry_builds_it_by_name() -> None:
@@ -51,6 +51,24 @@ def test_extras_are_drifts_and_shears(white_noise) -> None:
     stiffness = np.array([7.5e7, 7.0e7, 6.0e7, 4.5e7, 2.5e7])
     hysteretic = (shear / stiffness - 0.1 * drift) / 0.9
     assert np.abs(hysteretic).max() <= 0.01 * (1 + 1e-6)
+
+
+def test_every_length_and_record_count_is_written_in_place(white_noise) -> None:
+    """Outputs leave the integrator in windows of samples and blocks of records: a record
+    cut short, or simulated among other records, gives the start of the same response."""
+    window, lanes = explicit.WINDOW, explicit.LANES
+    ag = white_noise(lanes + 3, seed=11, duration=(2 * window + 1) * 0.01)
+    building = BoucWenShearBuilding()
+    whole = building.simulate(GroundMotions(ag, 0.01))
+    assert np.abs(whole.displacement[:, -1]).min() > 0.0
+    for length in (2, window - 1, window, window + 1, 2 * window + 2):
+        for records in (slice(lanes + 2, lanes + 3), slice(0, lanes + 3)):
+            part = building.simulate(GroundMotions(ag[records, :length], 0.01))
+            for name in ("story_drift", "story_shear"):
+                np.testing.assert_array_equal(
+                    part.extras[name], whole.extras[name][records, :length], err_msg=name
+                )
+            np.testing.assert_array_equal(part.displacement, whole.displacement[records, :length])
 
 
 @pytest.mark.parametrize(

@@ -6,7 +6,9 @@ the whole reduced model of one record with its state in registers, which LLVM tu
 vector instructions. Blocks of records are spread over the cores in threads. The model's
 sizes and a whole-number Bouc-Wen exponent are compile-time constants of the kernel
 (:func:`.native.size_marker`; one compiled version per combination, cached on disk), so
-its loops unroll and ``|h|^(n-1)`` costs a few multiplications instead of ``pow``.
+its loops unroll and ``|h|^(n-1)`` costs a few multiplications instead of ``pow``. The
+outputs of a block are kept for :data:`WINDOW` samples and then written record by record,
+in long runs of consecutive memory.
 """
 
 from __future__ import annotations
@@ -29,6 +31,9 @@ WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 
 STAGES = len(NODES)
 """State buffers of one step: the state, then where each later Runge-Kutta stage starts."""
+
+WINDOW = 64
+"""Samples of a block's outputs kept before they are written out, record by record."""
 
 
 def integrate_rk4(
@@ -150,7 +155,7 @@ def _rk4_kernel(
     model = (kappa, damp, hyst, drift_map, part, a, delta, zeta, power, whole_power)
     stage = local_array((STAGES, states, LANES), dtype)
     total = local_array((states, LANES), dtype)
-    values = local_array((2, stories, LANES), dtype)
+    window = np.empty((WINDOW, 2, d, LANES), dtype)
     state = stage[0]
     block_ag = np.zeros((n_steps, LANES), dtype)
     for first in range(0, n_records, LANES):
@@ -159,8 +164,8 @@ def _rk4_kernel(
             for k in range(n_steps):
                 block_ag[k, lane] = ag[first + lane, k]
         state[:] = 0
-        sample = (first, count, floor_map, shear_map, values)
-        _write_sample(state, 0, sample, displacement_out, drift_out, shear_out)
+        outputs = (first, count, shear_map, displacement_out, drift_out, shear_out)
+        _keep_sample(state, window[0], floor_map, shear_map)
         for k in range(n_steps - 1):
             for sub in range(fractions.shape[0]):
                 step_ag = (block_ag, k, fractions[sub])
@@ -168,7 +173,12 @@ def _rk4_kernel(
                 _stage(stage, 1, total, stages, step_ag, model, states)
                 _stage(stage, 2, total, stages, step_ag, model, states)
                 _stage(stage, 3, total, stages, step_ag, model, states)
-            _write_sample(state, k + 1, sample, displacement_out, drift_out, shear_out)
+            kept = (k + 1) % WINDOW
+            if kept == 0:
+                _write_window(window, k + 1 - WINDOW, WINDOW, outputs)
+            _keep_sample(state, window[kept], floor_map, shear_map)
+        start = (n_steps - 1) // WINDOW * WINDOW
+        _write_window(window, start, n_steps - start, outputs)
         for lane in range(count):
             finite = True
             for i in range(n_states):
@@ -226,23 +236,39 @@ def _stage(stage, i, total, stages, step_ag, model, states):
 
 
 @numba.njit(inline="always", **JIT)
-def _write_sample(state, k, sample, displacement_out, drift_out, shear_out):
-    """Write sample ``k`` of a block's records: floor displacements, story drifts (their
-    differences, in float64) and story shears."""
-    first, count, floor_map, shear_map, values = sample
+def _keep_sample(state, kept, floor_map, shear_map):
+    """Floor displacements (m) and hysteretic story shears (N) of a block's lanes,
+    ``kept [2, d, LANES]``, from their state."""
     r, d = floor_map.shape[1], floor_map.shape[0]
     for lane in range(LANES):
         for s in range(d):
             floor = floor_map[s, 0] * state[0, lane]
             for j in range(1, r):
                 floor += floor_map[s, j] * state[j, lane]
-            values[0, s, lane] = floor
-            values[1, s, lane] = shear_map[1, s] * state[2 * r + s, lane]
+            kept[0, s, lane] = floor
+            kept[1, s, lane] = shear_map[1, s] * state[2 * r + s, lane]
+
+
+@numba.njit(inline="always", **JIT)
+def _write_window(window, start, length, outputs):
+    """Write samples ``start`` to ``start + length`` of a block's records from ``window``:
+    floor displacements, story drifts (their differences, in float64) and story shears.
+
+    Record after record, so that each output is written in runs of ``length * d``
+    consecutive values (writing every sample of the block's records as it comes touches
+    ``3 LANES`` distant places at a time and took several times as long).
+    """
+    first, count, shear_map, displacement_out, drift_out, shear_out = outputs
+    d = window.shape[2]
     for lane in range(count):
-        below = 0.0
-        for s in range(d):
-            floor = np.float64(values[0, s, lane])
-            displacement_out[first + lane, k, s] = floor
-            drift_out[first + lane, k, s] = floor - below
-            shear_out[first + lane, k, s] = shear_map[0, s] * (floor - below) + values[1, s, lane]
-            below = floor
+        record = first + lane
+        for kept in range(length):
+            below = 0.0
+            for s in range(d):
+                floor = np.float64(window[kept, 0, s, lane])
+                displacement_out[record, start + kept, s] = floor
+                drift_out[record, start + kept, s] = floor - below
+                shear_out[record, start + kept, s] = (
+                    shear_map[0, s] * (floor - below) + window[kept, 1, s, lane]
+                )
+                below = floor
