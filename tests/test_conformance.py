@@ -106,6 +106,18 @@ class CoarseOperator(toy_components.ToyOperator):
         return out.round() if torch.is_autocast_enabled("cpu") else out
 
 
+class SteepOperator(toy_components.ToyOperator):
+    """Answers correctly under autocast, but with twice the gradient."""
+
+    name = "steep"
+
+    def forward(self, x):
+        out = super().forward(x)
+        if torch.is_autocast_enabled("cpu"):
+            return out.detach() + 2.0 * (out - out.detach())
+        return out
+
+
 @pytest.mark.parametrize(
     "check, component, message",
     [
@@ -114,6 +126,7 @@ class CoarseOperator(toy_components.ToyOperator):
         (testing.check_operator, FixedLengthOperator, "fixed-length: output shape"),
         (testing.check_operator, Float32OnlyOperator, "float32-only: fails under torch.autocast"),
         (testing.check_operator, CoarseOperator, "coarse: under torch.autocast to bfloat16"),
+        (testing.check_operator, SteepOperator, "steep: under bfloat16 autocast the gradients"),
     ],
 )
 def test_checks_catch_broken_contracts(check, component, message):

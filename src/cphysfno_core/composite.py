@@ -35,7 +35,7 @@ from .interfaces import (
     format_validation_error,
     validate_params,
 )
-from .precision import Precision, inference_precision
+from .precision import Precision, operator_precision
 from .registry import get_registry
 from .signals import GroundMotions, TimeGrid
 from .training import (
@@ -422,7 +422,7 @@ class CompositeModel:
         out = np.empty((n, steps, self.operator_.out_channels))
         self.operator_.eval()
         device = self.device
-        with torch.no_grad(), inference_precision(device, precision):
+        with torch.no_grad(), operator_precision(device, precision):
             for start in range(0, n, PREDICT_CHUNK):
                 rows = slice(start, start + PREDICT_CHUNK)
                 x = torch.from_numpy(self.input_normalizer_.encode(inputs_of(rows))).to(device)
@@ -606,9 +606,9 @@ def compose(
     residual target or an extra a_g input channel.
     """
     if isinstance(training, dict):
-        training = TrainingConfig.model_validate(training)
+        training = validate_params(TrainingConfig, training, "training")
     if isinstance(formulation, dict):
-        formulation = FormulationConfig.model_validate(formulation)
+        formulation = validate_params(FormulationConfig, formulation, "formulation")
     op = operator if isinstance(operator, NeuralOperator) else _as_spec(operator)
     if isinstance(op, ComponentSpec):
         validate_params(get_registry().get("operator", op.name).Params, op.params, "operator")

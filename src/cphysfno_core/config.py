@@ -105,6 +105,13 @@ class TrainingConfig(_Strict):
         description="train on the first n records of the training split (default: all of "
         "it), for data-efficiency studies on one dataset",
     )
+    precision: Literal["float32", "bfloat16"] = Field(
+        "float32",
+        description="arithmetic of the operator's forward and backward passes: 'bfloat16' "
+        "runs them under torch.autocast (about 1.7x faster per epoch on a CPU with native "
+        "bfloat16, e.g. avx512_bf16 or AMX, and on recent GPUs); weights, gradients, "
+        "optimiser and loss stay float32",
+    )
 
 
 class FormulationConfig(_Strict):

@@ -1,11 +1,13 @@
-"""The arithmetic a trained operator predicts in: float32 as trained, or bfloat16 products.
+"""The arithmetic an operator trains or predicts in: float32, or bfloat16 products.
 
 bfloat16 keeps float32's exponent range with an 8-bit significand (relative rounding
-``2^-9``, about 0.2 %). On a CPU with native bfloat16 arithmetic (``avx512_bf16`` or AMX)
-its matrix products run about twice as fast as float32's; what that costs in accuracy
-is measured in ``benchmarks/RESULTS.md`` and is small beside a trained model's own error.
-It is opt-in: the operator runs under ``torch.autocast``, and each operator decides which
-of its steps take the lower precision.
+``2^-9``, about 0.2 %). On a CPU with native bfloat16 arithmetic (``avx512_bf16`` or AMX),
+and on recent GPUs, its matrix products run about twice as fast as float32's; what that
+costs in accuracy is measured in ``benchmarks/RESULTS.md``. It is opt-in, for training
+(``[training] precision``) and for prediction (``model.predict(..., precision=)``) alike:
+the operator runs under ``torch.autocast``, and each operator decides which of its steps
+take the lower precision. Parameters, their gradients, the optimiser and the loss stay in
+float32.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ def native_bfloat16(device: torch.device) -> bool:
 
 
 @contextlib.contextmanager
-def inference_precision(device: torch.device, precision: str) -> Iterator[None]:
+def operator_precision(device: torch.device, precision: str) -> Iterator[None]:
     """Run the operator calls inside in ``precision`` on ``device``.
 
     ``"float32"`` changes nothing; ``"bfloat16"`` enters ``torch.autocast(device.type,
@@ -51,7 +53,7 @@ def inference_precision(device: torch.device, precision: str) -> Iterator[None]:
         return
     if not native_bfloat16(device):
         warnings.warn(
-            f"{device.type} has no native bfloat16 arithmetic: predicting in bfloat16 is "
+            f"{device.type} has no native bfloat16 arithmetic: computing in bfloat16 is "
             "emulated there and slower than float32",
             CphysfnoWarning,
             stacklevel=4,

@@ -137,9 +137,9 @@ def check_preprocessor(preprocessor: PhysicsPreprocessor, structure: Structure) 
 def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
     """Build with ``(in_channels=3, out_channels=2, **hyper)``: output ``[b, T, 2]`` at any
     T, gradients reach every parameter, a state-dict round trip reproduces the output, the
-    state dict holds tensors only, under bfloat16 autocast (prediction's
-    ``precision="bfloat16"``) the output stays within 5 % of float32's, and a wrong input
-    raises the package's own error."""
+    state dict holds tensors only, under bfloat16 autocast (``precision="bfloat16"`` in
+    prediction and training) the output stays within 5 % of float32's and the gradients
+    within 25 %, and a wrong input raises the package's own error."""
     torch.manual_seed(0)
     operator = cls(3, 2, **hyper)
     for steps in (64, 101):
@@ -167,17 +167,40 @@ def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
 
 
 def _check_bfloat16(operator: NeuralOperator, x: torch.Tensor) -> None:
-    """The operator under ``torch.autocast`` to bfloat16 answers within 5 % of float32."""
+    """Under ``torch.autocast`` to bfloat16 the operator answers within 5 % of float32, and
+    its gradients (training's ``precision = "bfloat16"``) reach every parameter in the
+    parameter's dtype, finite and within 25 % of float32's."""
     with torch.no_grad():
         single = operator(x)
-        try:
-            with torch.autocast(x.device.type, dtype=torch.bfloat16):
-                low = operator(x).float()
-        except Exception as error:
-            message = f"fails under torch.autocast to bfloat16: {type(error).__name__}: {error}"
-            raise _fail(operator, message) from error
+    reference = _gradients(operator, x, autocast=False)
+    try:
+        with torch.no_grad(), torch.autocast(x.device.type, dtype=torch.bfloat16):
+            low = operator(x).float()
+        gradients = _gradients(operator, x, autocast=True)
+    except Exception as error:
+        message = f"fails under torch.autocast to bfloat16: {type(error).__name__}: {error}"
+        raise _fail(operator, message) from error
     if low.shape != single.shape or not (low - single).norm() <= 0.05 * single.norm():
         raise _fail(operator, "under torch.autocast to bfloat16 the output strays from float32's")
+    for (name, parameter), grad in zip(operator.named_parameters(), gradients, strict=True):
+        if grad is None or grad.dtype != parameter.dtype or not torch.isfinite(grad).all():
+            raise _fail(operator, f"under bfloat16 autocast, {name} gets no finite gradient")
+    exact_all = torch.cat([g.flatten() for g in reference])
+    low_all = torch.cat([g.flatten() for g in gradients])
+    if not (low_all - exact_all).norm() <= 0.25 * exact_all.norm():
+        raise _fail(operator, "under bfloat16 autocast the gradients stray from float32's")
+
+
+def _gradients(operator: NeuralOperator, x: torch.Tensor, autocast: bool) -> list:
+    """Gradients of a fixed loss of the operator's output, with or without bfloat16
+    autocast."""
+    operator.zero_grad(set_to_none=True)
+    with torch.autocast(x.device.type, dtype=torch.bfloat16, enabled=autocast):
+        y = operator(x)
+    y.float().square().mean().backward()
+    gradients = [p.grad for p in operator.parameters()]
+    operator.zero_grad(set_to_none=True)
+    return gradients
 
 
 def check_refiner(refiner: Refiner) -> None:

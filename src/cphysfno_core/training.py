@@ -19,6 +19,7 @@ import torch
 
 from .config import TrainingConfig
 from .errors import ConfigError, DatasetError, InputError
+from .precision import operator_precision
 from .progress import time_left
 
 FUSED_ADAM_DEVICES = ("cpu", "cuda")
@@ -183,14 +184,18 @@ def load_checkpoint(path: str | Path) -> dict:
 
 
 def _evaluate(
-    operator: torch.nn.Module, x: torch.Tensor, y: torch.Tensor, decode, batch_size: int
+    forward: Callable[[torch.Tensor], torch.Tensor],
+    x: torch.Tensor,
+    y: torch.Tensor,
+    decode,
+    batch_size: int,
 ) -> float:
     """Relative L2 over a whole split (the ratio of sums, not a mean of batch ratios)."""
     error = 0.0
     norm = 0.0
     with torch.no_grad():
         for start in range(0, x.shape[0], batch_size):
-            prediction = decode(operator(x[start : start + batch_size]))
+            prediction = decode(forward(x[start : start + batch_size]))
             target = y[start : start + batch_size]
             error += torch.linalg.vector_norm(prediction - target, dim=1).sum().item()
             norm += torch.linalg.vector_norm(target, dim=1).sum().item()
@@ -218,7 +223,8 @@ def train_operator(
             outputs so it is the paper's relative L2 of displacements.
         output_normalizer: decodes the operator output to physical units.
         settings: epochs, batch size, Adam learning rate, step decay, seed, device (the
-            operator is moved to it and stays there; the data are copied to it whole).
+            operator is moved to it and stays there; the data are copied to it whole),
+            precision of the operator's passes (see :mod:`cphysfno_core.precision`).
         progress: called after every epoch (None for silence).
         checkpoint: file written (atomically) after every epoch with everything needed
             to continue: weights, optimiser, schedule, random states, best epoch so far.
@@ -236,6 +242,11 @@ def train_operator(
     xv = torch.as_tensor(x_val, dtype=torch.float32, device=device)
     yv = torch.as_tensor(y_val, dtype=torch.float32, device=device)
     decode = output_normalizer.decode_torch
+
+    def forward(x: torch.Tensor) -> torch.Tensor:
+        """The operator's output in float32, computed in ``settings.precision``."""
+        with operator_precision(device, settings.precision):
+            return operator(x).float()
 
     parameters = list(operator.parameters())
     optimiser = torch.optim.Adam(
@@ -270,7 +281,7 @@ def train_operator(
         norm_sum = 0.0
         for start in range(0, xt.shape[0], settings.batch_size):
             rows = order[start : start + settings.batch_size].to(device)
-            error, norm = _error_and_norm(decode(operator(xt[rows])), yt[rows])
+            error, norm = _error_and_norm(decode(forward(xt[rows])), yt[rows])
             loss = error / norm.clamp_min(1e-30)
             optimiser.zero_grad(set_to_none=True)
             loss.backward()
@@ -280,7 +291,7 @@ def train_operator(
         learning_rate = optimiser.param_groups[0]["lr"]
         schedule.step()
         operator.eval()
-        val_loss = _evaluate(operator, xv, yv, decode, settings.batch_size)
+        val_loss = _evaluate(forward, xv, yv, decode, settings.batch_size)
         train_loss = error_sum / max(norm_sum, 1e-30)
         history.train_loss.append(train_loss)
         history.val_loss.append(val_loss)
