@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from cphysfno_physics import linear_response as linear_response_module
 from cphysfno_physics.linear_response import linear_response
 from scipy.integrate import solve_ivp
 
@@ -79,6 +80,20 @@ def test_mdof_matches_lsim_across_chunks(non_classical, lsim_response):
     reference = lsim_response(system, GroundMotions(ag[picked], 0.01))
     scale = np.max(np.abs(reference), axis=(0, 1))
     assert np.all(np.max(np.abs(y[picked] - reference), axis=(0, 1)) <= 1e-8 * scale)
+
+
+def test_every_length_and_record_count_is_written_in_place():
+    """Outputs leave the kernel in windows of samples and blocks of records: a record cut
+    short, or solved among other records, gives the start of the same response."""
+    window, lanes = linear_response_module.WINDOW, linear_response_module.LANES
+    system = three_story(non_classical=False)
+    ag = random_records(lanes + 3, 2 * window + 2, seed=8)
+    whole = linear_response(system, ag, 0.01)
+    assert np.abs(whole[:, -1]).min() > 0.0
+    for length in (2, window - 1, window, window + 1, 2 * window + 2):
+        for records in (slice(lanes + 2, lanes + 3), slice(0, lanes + 3)):
+            part = linear_response(system, ag[records, :length], 0.01)
+            np.testing.assert_array_equal(part, whole[records, :length])
 
 
 def test_non_classical_mdof_matches_tight_solve_ivp():

@@ -34,6 +34,9 @@ eigen-coordinate path is used; round-off grows with it, so 1e6 keeps the error n
 LANES = 64
 """Records advanced together by one SIMD loop of the kernel."""
 
+WINDOW = 64
+"""Samples of a block's outputs kept before they are written out, record by record."""
+
 
 def linear_response(system: LinearSystem, acceleration: np.ndarray, dt: float) -> np.ndarray:
     """Displacements ``y = L u`` of a linear structure, exact for piecewise-linear ``a_g``.
@@ -143,13 +146,14 @@ def _modal_kernel(ag, coefficients, to_output, out):
 
     ``coefficients [2, 3, M]`` holds the real and imaginary parts of ``mu``, ``g0`` and
     ``g1`` of the M eigen-coordinates run; ``to_output [2, n_outputs, M]`` the real part and
-    the negated imaginary part of their map to the outputs (``y = Re(T eta)``).
+    the negated imaginary part of their map to the outputs (``y = Re(T eta)``). A block's
+    outputs are kept for :data:`WINDOW` samples and then written record by record.
     """
     n_records, n_steps = ag.shape
     n_modes, n_outputs = coefficients.shape[2], to_output.shape[1]
     eta = np.empty((2, n_modes, LANES))
     block = np.empty((n_steps, LANES))
-    value = np.empty(LANES)
+    window = np.empty((WINDOW, n_outputs, LANES))
     for first in range(0, n_records, LANES):
         count = min(LANES, n_records - first)
         block[:] = 0.0
@@ -157,9 +161,7 @@ def _modal_kernel(ag, coefficients, to_output, out):
             for k in range(n_steps):
                 block[k, lane] = ag[first + lane, k]
         eta[:] = 0.0
-        for lane in range(count):
-            for o in range(n_outputs):
-                out[first + lane, 0, o] = 0.0
+        window[0] = 0.0
         for k in range(n_steps - 1):
             now, later = block[k], block[k + 1]
             for m in range(n_modes):
@@ -172,15 +174,31 @@ def _modal_kernel(ag, coefficients, to_output, out):
                     re, im = real[lane], imag[lane]
                     real[lane] = mu_re * re - mu_im * im + g0_re * a0 + g1_re * a1
                     imag[lane] = mu_re * im + mu_im * re + g0_im * a0 + g1_im * a1
+            kept = (k + 1) % WINDOW
+            if kept == 0:
+                _write_window(window, WINDOW, out[first : first + count, k + 1 - WINDOW :])
             for o in range(n_outputs):
+                value = window[kept, o]
                 value[:] = 0.0
                 for m in range(n_modes):
                     c_re, c_im = to_output[0, o, m], to_output[1, o, m]
                     real, imag = eta[0, m], eta[1, m]
                     for lane in range(LANES):
                         value[lane] += c_re * real[lane] + c_im * imag[lane]
-                for lane in range(count):
-                    out[first + lane, k + 1, o] = value[lane]
+        start = (n_steps - 1) // WINDOW * WINDOW
+        _write_window(window, n_steps - start, out[first : first + count, start:])
+
+
+@numba.njit(inline="always", nogil=True)
+def _write_window(window, length, out):
+    """``out [count, >= length, n_outputs]`` from the first ``length`` samples of
+    ``window [WINDOW, n_outputs, LANES]``, record by record: each record's samples are
+    written in one run of consecutive memory (writing each sample of a block's records as
+    it came touched ``LANES`` distant places at a time, several times slower)."""
+    for lane in range(out.shape[0]):
+        for kept in range(length):
+            for o in range(out.shape[2]):
+                out[lane, kept, o] = window[kept, o, lane]
 
 
 def _cpu_count() -> int:
