@@ -55,6 +55,7 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "relative L2 error per output" in printed and "c-phystoy-operator-toy-linear" in printed
     document = json.loads((out / "metrics.json").read_text())
+    assert document["precision"] == "float32"
     labels = set(document["models"])
     assert labels == {
         "toy-operator",

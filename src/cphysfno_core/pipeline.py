@@ -226,6 +226,7 @@ def evaluate(
         "output_names": list(data.output_names),
         "sizes": {**data.sizes, "train": calibration_records["training"]},
         "epochs": config.training.epochs,
+        "precision": config.training.precision,
     }
     (out / "metrics.json").write_text(json.dumps(document, indent=2))
     return Evaluation(data, predictions, results)
