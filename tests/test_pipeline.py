@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core import generation, pipeline
+from cphysfno_core import generation, pipeline, precision
 from cphysfno_core.cli import main
 from cphysfno_core.simulation import simulate_chunk
 
@@ -128,6 +128,17 @@ def test_physics_row_is_the_preprocessor_error(toy_registry, tmp_path):
     pipeline.train(config, out)
     metrics = pipeline.evaluate(config, out).metrics
     np.testing.assert_allclose(metrics["physics-toy-linear"]["rel_l2"], expected)
+
+
+def test_a_bfloat16_training_says_so_and_records_it(toy_registry, tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(precision, "native_bfloat16", lambda device: True)
+    config = tmp_path / "toy-bfloat16.toml"
+    config.write_text(CONFIG.format(executor="serial") + 'precision = "bfloat16"\n')
+    out = tmp_path / "run"
+    assert main(["run", str(config), "--out", str(out)]) == 0
+    said = capsys.readouterr().err
+    assert "training c-phystoy-operator-toy-linear (3 epochs, 12 records, in bfloat16)" in said
+    assert json.loads((out / "metrics.json").read_text())["precision"] == "bfloat16"
 
 
 def test_stages_run_separately_and_evaluate_needs_training(toy_registry, tmp_path, capsys):

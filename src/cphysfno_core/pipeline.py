@@ -103,9 +103,10 @@ def train(
             say(f"{model.label} is trained already")
             model = CompositeModel.load(directory).to(config.training.device)
         else:
+            arithmetic = "" if config.training.precision == "float32" else ", in bfloat16"
             say(
                 f"training {model.label} ({config.training.epochs} epochs, "
-                f"{train_gm.n_records} records)"
+                f"{train_gm.n_records} records{arithmetic})"
             )
             model.fit(
                 train_gm,
