@@ -139,6 +139,7 @@ def test_a_bfloat16_training_says_so_and_records_it(toy_registry, tmp_path, caps
     said = capsys.readouterr().err
     assert "training c-phystoy-operator-toy-linear (3 epochs, 12 records, in bfloat16)" in said
     assert json.loads((out / "metrics.json").read_text())["precision"] == "bfloat16"
+    assert "epochs, trained in bfloat16" in (out / "report.md").read_text()
 
 
 def test_stages_run_separately_and_evaluate_needs_training(toy_registry, tmp_path, capsys):

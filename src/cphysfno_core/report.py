@@ -177,7 +177,8 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         f"- operators: {describe_operators(config)}, "
         f"{config.training.epochs} epochs, batch {config.training.batch_size}, "
         f"Adam lr {config.training.learning_rate}, x{config.training.decay_factor} every "
-        f"{config.training.decay_step} epochs",
+        f"{config.training.decay_step} epochs"
+        + ("" if config.training.precision == "float32" else ", trained in bfloat16"),
         "",
         "Rows `physics-*` are the physics response z alone, untrained: the number a learned "
         "model must beat.",
