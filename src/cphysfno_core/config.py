@@ -15,6 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from .errors import ConfigError
 from .interfaces import format_validation_error, validate_params
+from .precision import Precision
 from .registry import Registry, get_registry
 
 
@@ -105,7 +106,7 @@ class TrainingConfig(_Strict):
         description="train on the first n records of the training split (default: all of "
         "it), for data-efficiency studies on one dataset",
     )
-    precision: Literal["float32", "bfloat16"] = Field(
+    precision: Precision = Field(
         "float32",
         description="arithmetic of the operator's forward and backward passes: 'bfloat16' "
         "runs them under torch.autocast (about 1.7x faster per epoch on a CPU with native "

@@ -238,11 +238,13 @@ class NeuralOperator(torch.nn.Module):
     Subclasses take ``(in_channels, out_channels, **hyper)`` where ``hyper`` is validated
     by their ``Params`` model; they must accept any ``T``.
 
-    Prediction in bfloat16 (``CompositeModel.predict(..., precision="bfloat16")``) calls
-    ``forward`` under ``torch.autocast``: an operator built of standard torch modules
-    follows it as they do; one with its own products reads the dtype it asks for
+    Prediction and training in bfloat16 (``CompositeModel.predict(...,
+    precision="bfloat16")``, ``[training] precision = "bfloat16"``) call ``forward`` (and
+    its backward pass) under ``torch.autocast``: an operator built of standard torch
+    modules follows it as they do; one with its own products reads the dtype it asks for
     (``torch.get_autocast_dtype``) and chooses which of its steps take it. The output may
-    come back in either dtype; the caller turns it into float32.
+    come back in either dtype; the caller turns it into float32. Gradients reach the
+    parameters in the parameters' own dtype.
     """
 
     name: ClassVar[str] = ""

@@ -103,7 +103,8 @@ def train(
             say(f"{model.label} is trained already")
             model = CompositeModel.load(directory).to(config.training.device)
         else:
-            arithmetic = "" if config.training.precision == "float32" else ", in bfloat16"
+            precision = config.training.precision
+            arithmetic = "" if precision == "float32" else f", in {precision}"
             say(
                 f"training {model.label} ({config.training.epochs} epochs, "
                 f"{train_gm.n_records} records{arithmetic})"

@@ -168,6 +168,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
             path for path in structure.write_artifacts(out / "structure") if path.suffix == ".png"
         ]
     sizes = evaluation.data.sizes
+    precision = config.training.precision
     lines = [
         "# cphysfno study report",
         "",
@@ -178,7 +179,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         f"{config.training.epochs} epochs, batch {config.training.batch_size}, "
         f"Adam lr {config.training.learning_rate}, x{config.training.decay_factor} every "
         f"{config.training.decay_step} epochs"
-        + ("" if config.training.precision == "float32" else ", trained in bfloat16"),
+        + ("" if precision == "float32" else f", trained in {precision}"),
         "",
         "Rows `physics-*` are the physics response z alone, untrained: the number a learned "
         "model must beat.",
