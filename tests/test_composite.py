@@ -180,3 +180,28 @@ def test_linear_regression_fits_on_the_split_it_names(toy_data, split, records):
     )
     np.testing.assert_allclose(model.refiner.weights_, expected.weights_, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(model.refiner.sigma_, expected.sigma_, rtol=1e-9)
+
+
+def test_without_normalisation_the_operator_sees_raw_si_values(toy_data, tmp_path):
+    """normalize = false: the operator's inputs are z in m and t in s, and its output is
+    the displacement in m, as in the authors' published code."""
+    structure, gm, u = toy_data
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator="toy-operator",
+        training={"batch_size": 4, "seed": 3, "normalize": False},
+    )
+    seen = []
+    model.fit(gm[:8], u[:8], validation=(gm[8:12], u[8:12]), epochs=1, progress=None)
+    model.operator_.register_forward_hook(lambda _m, args, out: seen.append((args[0], out)))
+    stages = model.predict_stages(gm[20:])
+    x, y = seen[0]
+    z = model.physics(gm[20:])
+    np.testing.assert_allclose(x[..., :-1].numpy(), z[: x.shape[0]], rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(x[0, :, -1].numpy(), gm.time, rtol=1e-6)
+    np.testing.assert_allclose(stages.operator_output[: y.shape[0]], y.numpy(), rtol=1e-6)
+    model.save(tmp_path / "raw")
+    loaded = cp.CompositeModel.load(tmp_path / "raw")
+    assert loaded.training.normalize is False
+    np.testing.assert_allclose(loaded.predict(gm[20:])[0], stages.mean, rtol=1e-6, atol=1e-9)

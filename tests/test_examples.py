@@ -146,3 +146,22 @@ def test_the_residual_frame_configs_reuse_their_frame_data(plain: str, residual:
     assert dataset_hash(beyond) == dataset_hash(paper)
     assert beyond.formulation.residual and beyond.formulation.ground_motion_input
     assert beyond.operator == paper.operator
+
+
+@pytest.mark.parametrize("name", ["bouc-wen", "bridge"])
+def test_paper_setup_configs_train_as_the_published_code(name):
+    """examples/paper-setup/: the paper's example with the published MATLAB code's FNO
+    (ReLU after every Fourier layer, Glorot init) and training (raw SI inputs and outputs)."""
+    setup = cp.load_config(EXAMPLES / "paper-setup" / f"{name}.toml")
+    ours = cp.load_config(EXAMPLES / f"{name}.toml")
+    (fno,) = setup.operator
+    assert fno.params == {
+        **ours.operator[0].params,
+        "activation": "relu",
+        "activate_last_layer": True,
+        "init": "glorot",
+    }
+    assert setup.training.normalize is False
+    assert setup.training.model_copy(update={"normalize": True}) == ours.training
+    assert (setup.structure, setup.ground_motion) == (ours.structure, ours.ground_motion)
+    assert setup.data == ours.data

@@ -264,8 +264,9 @@ class CompositeModel:
         x_train = self._inputs(motions, z)
         x_val = self._inputs(val_motions, validation_z)
         target = self._target(u, z)
-        self.input_normalizer_ = Normalizer.fit(x_train)
-        self.output_normalizer_ = Normalizer.fit(target)
+        fit_normalizer = Normalizer.fit if self.training.normalize else Normalizer.identity
+        self.input_normalizer_ = fit_normalizer(x_train)
+        self.output_normalizer_ = fit_normalizer(target)
         self.grid_ = motions.grid
         pga = peak_ground_acceleration(motions.acceleration)
         self.training_pga_ = (float(pga.min()), float(pga.max()))

@@ -92,6 +92,12 @@ class TrainingConfig(_Strict):
     decay_factor: float = Field(0.5, gt=0, le=1)
     weight_decay: float = Field(0.0, ge=0)
     loss: Literal["relative-l2"] = "relative-l2"
+    normalize: bool = Field(
+        True,
+        description="standardise each input and target channel (mean and std over the "
+        "training split); false feeds the operator raw SI values (time in s, displacements "
+        "in m), as the authors' published MATLAB code does",
+    )
     seed: int = 0
     threads: int | None = Field(None, gt=0, description="torch CPU threads; default: all")
     device: str = Field(

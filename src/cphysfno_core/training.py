@@ -48,6 +48,12 @@ class Normalizer:
         std = np.where(std > 0, std, 1.0)
         return cls(mean.astype(np.float64), std.astype(np.float64))
 
+    @classmethod
+    def identity(cls, x: np.ndarray) -> Normalizer:
+        """The map that leaves ``x [n, T, channels]`` as it is (mean 0, std 1)."""
+        channels = x.shape[-1]
+        return cls(np.zeros(channels), np.ones(channels))
+
     def encode(self, x: np.ndarray) -> np.ndarray:
         return ((x - self.mean) / self.std).astype(np.float32)
 

@@ -59,7 +59,7 @@ def reference_forward(model: FNO1d, x: torch.Tensor) -> torch.Tensor:
             v, layer.pointwise.weight[..., None], layer.pointwise.bias
         )
         v = torch.fft.irfft(out_ft, n=n) + pointwise
-        if index < len(model.layers) - 1:
+        if index < len(model.layers) - 1 or model.params.activate_last_layer:
             v = act(v)
     v = v[..., :steps].permute(0, 2, 1)
     v = act(
@@ -74,6 +74,7 @@ def reference_forward(model: FNO1d, x: torch.Tensor) -> torch.Tensor:
         {},
         {"activation": "relu", "padding": 7},
         {"modes": 40, "padding": 3, "layers": 3},
+        {"activation": "relu", "activate_last_layer": True, "init": "glorot"},
     ],
 )
 def test_equals_channels_first_fft_reference(hyper: dict) -> None:
@@ -85,6 +86,34 @@ def test_equals_channels_first_fft_reference(hyper: dict) -> None:
             layer.spectral.weight_imag.normal_(std=0.1)
     x = torch.randn(2, 61, 3, dtype=torch.float64)
     torch.testing.assert_close(model(x), reference_forward(model, x), rtol=1e-10, atol=1e-10)
+
+
+def test_activating_the_last_layer_changes_the_output() -> None:
+    torch.manual_seed(6)
+    plain = FNO1d(3, 2, **SMALL, activation="relu")
+    activated = FNO1d(3, 2, **SMALL, activation="relu", activate_last_layer=True)
+    activated.load_state_dict(plain.state_dict())
+    x = torch.randn(2, 40, 3)
+    assert not torch.allclose(plain(x), activated(x))
+
+
+def test_glorot_init_bounds_weights_and_zeroes_biases() -> None:
+    torch.manual_seed(7)
+    model = FNO1d(3, 2, **SMALL, init="glorot")
+    linears = [m for m in model.modules() if isinstance(m, torch.nn.Linear)]
+    assert len(linears) == 2 + SMALL["layers"] + 1
+    for linear in linears:
+        fan_out, fan_in = linear.weight.shape
+        bound = (6.0 / (fan_in + fan_out)) ** 0.5
+        assert linear.weight.abs().max() <= bound
+        assert linear.weight.abs().max() > 0.5 * bound
+        assert torch.count_nonzero(linear.bias) == 0
+    torch.manual_seed(7)
+    default = FNO1d(3, 2, **SMALL)
+    assert torch.count_nonzero(default.lifting.bias) > 0
+    torch.testing.assert_close(
+        model.layers[0].spectral.weight_real, default.layers[0].spectral.weight_real
+    )
 
 
 def test_overfits_a_few_samples() -> None:
@@ -155,6 +184,8 @@ def test_registry_creates_fno_by_name(registry: Registry) -> None:
         "width": 64,
         "projection_width": 128,
         "activation": "gelu",
+        "activate_last_layer": False,
+        "init": "torch",
         "padding": 0,
     }
 

@@ -25,6 +25,13 @@ class FNOParams(Params):
         width: channels of the latent field v.
         projection_width: hidden channels of the two-layer projection P.
         activation: the nonlinearity sigma.
+        activate_last_layer: also apply sigma after the last Fourier layer (the authors'
+            published MATLAB code applies ReLU after every Fourier layer; the reference
+            FNO1d of Li et al. does not after the last).
+        init: initial weights of the lifting, pointwise and projection maps: ``"torch"``
+            (``torch.nn.Linear``'s default) or ``"glorot"`` (Glorot-uniform weights and
+            zero biases, MATLAB's default for ``convolution1dLayer``, which the published
+            code uses). The spectral weights start the same either way.
         padding: zero samples appended at the end of the latent field before the Fourier
             layers and removed after them, for signals that are not periodic.
     """
@@ -34,6 +41,8 @@ class FNOParams(Params):
     width: int = Field(64, gt=0)
     projection_width: int = Field(128, gt=0)
     activation: Literal["gelu", "relu"] = "gelu"
+    activate_last_layer: bool = False
+    init: Literal["torch", "glorot"] = "torch"
     padding: int = Field(0, ge=0)
 
 
@@ -64,8 +73,9 @@ class FourierLayer(torch.nn.Module):
 class FNO1d(NeuralOperator):
     """Lifting Q, ``layers`` Fourier layers ``v <- sigma(K v + W v)`` and projection P.
 
-    As in the reference FNO1d of Li et al., the last Fourier layer has no activation and
-    P is ``Linear(width, projection_width) -> sigma -> Linear(projection_width, out)``.
+    As in the reference FNO1d of Li et al., the last Fourier layer has no activation
+    (unless ``activate_last_layer``) and P is
+    ``Linear(width, projection_width) -> sigma -> Linear(projection_width, out)``.
     The paper's sizes are lifting 2 -> 64 (baseline, input ``[a_g, t]``) or 6 -> 64
     (C-PhysFNO, input ``[z, t]``), 6 layers of 32 modes and projection 64 -> 128 -> 5.
 
@@ -96,6 +106,16 @@ class FNO1d(NeuralOperator):
         self.layers = torch.nn.ModuleList(FourierLayer(p.width, p.modes) for _ in range(p.layers))
         self.projection_hidden = torch.nn.Linear(p.width, p.projection_width)
         self.projection_out = torch.nn.Linear(p.projection_width, self.out_channels)
+        if p.init == "glorot":
+            self._glorot_init()
+
+    def _glorot_init(self) -> None:
+        """Glorot-uniform weights and zero biases for every linear map (not the spectral
+        weights)."""
+        for module in self.modules():
+            if isinstance(module, torch.nn.Linear):
+                torch.nn.init.xavier_uniform_(module.weight)
+                torch.nn.init.zeros_(module.bias)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         """``[batch, T, in_channels]`` -> ``[batch, T, out_channels]`` (same dtype as weights)."""
@@ -111,9 +131,10 @@ class FNO1d(NeuralOperator):
             v = v.to(compute)
             if self.padding:
                 v = torch.nn.functional.pad(v, (0, 0, 0, 0, 0, self.padding))
+            last = len(self.layers) - 1
             for index, layer in enumerate(self.layers):
                 v = layer(v)
-                if index < len(self.layers) - 1:
+                if index < last or self.params.activate_last_layer:
                     v = self.activation(v)
             if self.padding:
                 v = v[:steps]
