@@ -193,7 +193,6 @@ def run(quick: bool = False, device: str = "cpu") -> list[Row]:
     missing = ""
     try:
         candidates["neuralop 32 modes"] = (neuralop_fno(ARCHITECTURE["modes"]), "float32")
-        candidates["neuralop 17 modes"] = (neuralop_fno(17), "float32")
     except cp.CphysfnoError as error:
         missing = f"neuralop-fno not available ({error}); ours measured alone"
     load_before = load_average()
@@ -252,10 +251,6 @@ def run(quick: bool = False, device: str = "cpu") -> list[Row]:
     notes.append(
         f"ratio within each interleaved round: median {ratios[len(ratios) // 2]:.1f}x, "
         f"range {ratios[0]:.1f}-{ratios[-1]:.1f}x"
-    )
-    notes.append(
-        f"neuralop with 17 modes (its n_modes=32 as the paper's code writes it): "
-        f"{best['neuralop 17 modes']:.1f} s, {best['neuralop 17 modes'] / best['ours']:.1f}x ours"
     )
     return [
         Row(
