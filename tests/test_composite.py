@@ -205,3 +205,21 @@ def test_without_normalisation_the_operator_sees_raw_si_values(toy_data, tmp_pat
     loaded = cp.CompositeModel.load(tmp_path / "raw")
     assert loaded.training.normalize is False
     np.testing.assert_allclose(loaded.predict(gm[20:])[0], stages.mean, rtol=1e-6, atol=1e-9)
+
+
+def test_the_residual_form_starts_from_the_physics_response(toy_data):
+    """Residual formulation: the operator's output layer starts at zero, so before it has
+    learned anything the prediction is z plus the training mean of u - z."""
+    structure, gm, u = toy_data
+    model = cp.compose(
+        structure=structure,
+        preprocessor="toy-linear",
+        operator="toy-operator",
+        training={"batch_size": 4, "learning_rate": 1e-12},
+        formulation={"residual": True},
+    )
+    assert model.label == "c-phystoy-operator-toy-linear-residual"
+    model.fit(gm[:8], u[:8], validation=(gm[8:12], u[8:12]), epochs=1, progress=None)
+    stages = model.predict_stages(gm[20:])
+    shift = model.output_normalizer_.mean
+    np.testing.assert_allclose(stages.operator_output, stages.z + shift, rtol=0, atol=1e-9)

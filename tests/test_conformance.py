@@ -118,6 +118,31 @@ class SteepOperator(toy_components.ToyOperator):
         return out
 
 
+class OffsetOperator(toy_components.ToyOperator):
+    """Adds a constant after its output layer, so zeroing that layer leaves the offset."""
+
+    name = "offset"
+
+    def forward(self, x):
+        return super().forward(x) + 0.5
+
+
+class FrozenZeroOperator(toy_components.ToyOperator):
+    """Zeroes its output by a constant factor of zero, through which nothing can learn."""
+
+    name = "frozen-zero"
+
+    def __init__(self, in_channels, out_channels, **hyper):
+        super().__init__(in_channels, out_channels, **hyper)
+        self.register_buffer("gate", torch.tensor(1.0))
+
+    def zero_output_(self):
+        self.gate.zero_()
+
+    def forward(self, x):
+        return super().forward(x) * self.gate
+
+
 @pytest.mark.parametrize(
     "check, component, message",
     [
@@ -127,6 +152,8 @@ class SteepOperator(toy_components.ToyOperator):
         (testing.check_operator, Float32OnlyOperator, "float32-only: fails under torch.autocast"),
         (testing.check_operator, CoarseOperator, "coarse: under torch.autocast to bfloat16"),
         (testing.check_operator, SteepOperator, "steep: under bfloat16 autocast the gradients"),
+        (testing.check_operator, OffsetOperator, "offset: after zero_output_\\(\\) the output"),
+        (testing.check_operator, FrozenZeroOperator, "frozen-zero: after zero_output_.*step"),
     ],
 )
 def test_checks_catch_broken_contracts(check, component, message):
@@ -144,3 +171,14 @@ def test_operator_check_wants_the_packages_error_for_bad_input():
     with pytest.raises(AssertionError, match="silent: expected CphysfnoError"):
         testing.check_operator(Silent)
     assert torch.is_tensor(Silent(3, 2)(torch.zeros(1, 4, 3)))
+
+
+def test_an_operator_without_a_linear_layer_cannot_start_at_zero():
+    class Spectral(cp.NeuralOperator):
+        name = "spectral-only"
+
+        def forward(self, x):
+            return x[..., :1]
+
+    with pytest.raises(cp.CapabilityError, match="spectral-only.*override"):
+        Spectral(3, 1).zero_output_()

@@ -210,3 +210,76 @@ def test_a_bad_config_fails_with_one_line_before_any_work(toy_registry, tmp_path
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "operator.width: Input should be greater than 0" in err
     assert not out.exists()
+
+
+def test_choose_trains_both_forms_and_reports_each_against_its_physics(
+    toy_registry, tmp_path, capsys
+):
+    text = CONFIG.format(executor="serial") + '\n[formulation]\nresidual = "choose"\n'
+    path = tmp_path / "choose.toml"
+    path.write_text(text)
+    config = cp.load_config(path)
+    paper, residual = "c-phystoy-operator-toy-linear", "c-phystoy-operator-toy-linear-residual"
+    assert pipeline.model_labels(config) == [
+        "toy-operator",
+        paper,
+        f"refined-{paper}",
+        residual,
+        f"refined-{residual}",
+    ]
+    out = tmp_path / "out"
+    pipeline.run(config, out)
+    document = json.loads((out / "metrics.json").read_text())
+    models = document["models"]
+    data = cp.load_dataset(out / "dataset.h5")
+    z, u = data.physics("toy-linear", "val"), data.targets("val")
+    expected = np.sqrt(((z - u) ** 2).sum(axis=(0, 1)) / (u**2).sum(axis=(0, 1)))
+    np.testing.assert_allclose(models["physics-toy-linear"]["validation_rel_l2"], expected)
+    saved = json.loads((out / "models" / residual / "model.json").read_text())
+    assert saved["formulation"]["residual"] is True
+    mean_validation = {
+        label: np.mean(models[label]["validation_rel_l2"])
+        for label in models
+        if "validation_rel_l2" in models[label]
+    }
+    for label in (paper, f"refined-{paper}"):
+        twin = label + "-residual"
+        better = twin if mean_validation[twin] < mean_validation[label] else label
+        assert document["chosen_forms"][label] == better
+    physics = models["physics-toy-linear"]
+    names = data.output_names
+    worse = {
+        label: {
+            split: [
+                name
+                for name, ours, theirs in zip(names, row[key], physics[key], strict=True)
+                if ours > theirs
+            ]
+            for split, key in (("validation", "validation_rel_l2"), ("test", "rel_l2"))
+        }
+        for label, row in models.items()
+        if row.get("physics_input") == "physics-toy-linear"
+    }
+    worse = {label: {s: n for s, n in splits.items() if n} for label, splits in worse.items()}
+    worse = {label: splits for label, splits in worse.items() if splits}
+    recorded = {
+        label: {split: [entry[0] for entry in entries] for split, entries in splits.items()}
+        for label, splits in document["worse_than_physics"].items()
+    }
+    assert recorded == worse
+    warned = [line for line in capsys.readouterr().err.splitlines() if "warning:" in line]
+    assert len(warned) == len(worse)
+    report = (out / "report.md").read_text()
+    assert "## Against the physics input" in report
+    assert f"- {paper}: `{document['chosen_forms'][paper]}`" in report
+
+
+def test_a_model_cannot_be_built_to_choose(toy_registry):
+    structure = cp.create("structure", "toy-structure")
+    with pytest.raises(cp.ConfigError, match="'choose' is for a run"):
+        cp.compose(
+            structure=structure,
+            preprocessor="toy-linear",
+            operator="toy-operator",
+            formulation={"residual": "choose"},
+        )

@@ -97,10 +97,17 @@ class SavedModel(BaseModel):
 PartLike = str | tuple[str, dict[str, Any]] | ComponentSpec | Any
 
 
-def model_label(operator: str, preprocessor: str | None = None, refined: bool = False) -> str:
+def model_label(
+    operator: str,
+    preprocessor: str | None = None,
+    refined: bool = False,
+    residual: bool = False,
+) -> str:
     """``fno`` for the baseline, ``c-physfno-els`` for FNO on the ELS response (in general
-    ``c-phys<operator>-<preprocessor>``), with ``refined-`` in front when refined."""
+    ``c-phys<operator>-<preprocessor>``), ``-residual`` behind it for the residual
+    formulation, ``refined-`` in front when refined."""
     label = operator if preprocessor is None else f"c-phys{operator}-{preprocessor}"
+    label += "-residual" if residual else ""
     return f"refined-{label}" if refined else label
 
 
@@ -174,6 +181,11 @@ class CompositeModel:
                 "residual and ground_motion_input work on a physics response: the baseline "
                 "operator has none (it always sees a_g)"
             )
+        if self.formulation.residual == "choose":
+            raise ConfigError(
+                "formulation.residual = 'choose' is for a run, which trains both forms: "
+                "a model takes true or false"
+            )
         if isinstance(operator, NeuralOperator):
             self.operator_spec = ComponentSpec.of(operator.name, operator.get_params())
             self.operator_ = operator
@@ -187,7 +199,12 @@ class CompositeModel:
     def label(self) -> str:
         """Name of this model in reports (see :func:`model_label`)."""
         preprocessor = None if self.preprocessor is None else self.preprocessor.name
-        return model_label(self.operator_spec.name, preprocessor, self.refiner is not None)
+        return model_label(
+            self.operator_spec.name,
+            preprocessor,
+            refined=self.refiner is not None,
+            residual=self.formulation.residual,
+        )
 
     # -- features --------------------------------------------------------------------
     def physics(self, motions: GroundMotions) -> np.ndarray | None:
@@ -273,6 +290,8 @@ class CompositeModel:
         torch.manual_seed(self.training.seed)
         if self.operator_ is None:
             self.operator_ = self._build_operator(x_train.shape[2], u.shape[2])
+            if self.formulation.residual:
+                self.operator_.zero_output_()
         self.history_: TrainingHistory = train_operator(
             self.operator_,
             self.input_normalizer_.encode(x_train),

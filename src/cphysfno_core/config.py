@@ -125,14 +125,23 @@ class FormulationConfig(_Strict):
     """How a C-Phys model's operator works on the physics response z (the baseline, which
     has no z, ignores it). The paper's formulation is the default: ``[z, t] -> u``."""
 
-    residual: bool = Field(
+    residual: bool | Literal["choose"] = Field(
         False,
-        description="the operator learns the correction u - z and the prediction is z plus "
-        "its output",
+        description="true: the operator learns the correction u - z, its output layer "
+        "starting at zero so that training starts from the physics response, and the "
+        "prediction is z plus its output; 'choose' (for a run): train both forms, report "
+        "both, and name the one with the lower validation error",
     )
     ground_motion_input: bool = Field(
         False, description="feed a_g as an input channel beside z and t"
     )
+
+    def forms(self) -> list[FormulationConfig]:
+        """The concrete formulations this one trains: itself, or with ``residual =
+        'choose'`` the paper's form and the residual form."""
+        if self.residual != "choose":
+            return [self]
+        return [self.model_copy(update={"residual": value}) for value in (False, True)]
 
 
 class OutputConfig(_Strict):

@@ -265,6 +265,30 @@ class NeuralOperator(torch.nn.Module):
     def get_params(self) -> dict[str, Any]:
         return self.params.model_dump(mode="json")
 
+    def zero_output_(self) -> None:
+        """Make the output zero for every input while every parameter can still learn:
+        the residual formulation (``u = z + output``) starts training from the physics
+        response this way.
+
+        The default zeroes the weight and bias of the last ``torch.nn.Linear`` or
+        ``torch.nn.Conv1d`` among :meth:`modules` (the output layer of a network whose
+        layers are registered in order); an operator whose output is made otherwise
+        overrides it.
+
+        Raises:
+            CapabilityError: the operator holds no such layer.
+        """
+        layers = [m for m in self.modules() if isinstance(m, torch.nn.Linear | torch.nn.Conv1d)]
+        if not layers:
+            raise CapabilityError(
+                f"operator '{self.name}' has no linear output layer to start at zero: "
+                "override NeuralOperator.zero_output_"
+            )
+        with torch.no_grad():
+            layers[-1].weight.zero_()
+            if layers[-1].bias is not None:
+                layers[-1].bias.zero_()
+
 
 class Refiner(Component, ABC):
     """Post-processing of the operator output: refined mean and standard deviation.

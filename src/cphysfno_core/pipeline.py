@@ -9,14 +9,14 @@ from __future__ import annotations
 import json
 import shutil
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import torch
 
-from . import metrics
+from . import against_physics, metrics
 from .composite import CompositeModel, model_label
 from .config import ExperimentConfig
 from .data import Dataset, load_dataset
@@ -41,9 +41,13 @@ def model_labels(config: ExperimentConfig) -> list[str]:
     for operator in config.operator:
         labels += [model_label(operator.name)] if config.output.baseline else []
         for pp in config.preprocessor:
-            labels.append(model_label(operator.name, pp.name))
-            if config.refiner is not None:
-                labels.append(model_label(operator.name, pp.name, refined=True))
+            for form in config.formulation.forms():
+                residual = bool(form.residual)
+                labels.append(model_label(operator.name, pp.name, residual=residual))
+                if config.refiner is not None:
+                    labels.append(
+                        model_label(operator.name, pp.name, refined=True, residual=residual)
+                    )
     return labels
 
 
@@ -82,9 +86,9 @@ def train(
     train_gm, val_gm = data.motions("train")[kept], data.motions("val")
     train_u, val_u = data.targets("train")[kept], data.targets("val")
     saved: dict[str, Path] = {}
-    variants: list[Any] = [None] if config.output.baseline else []
-    variants += list(config.preprocessor)
-    for operator, pp in ((o, p) for o in config.operator for p in variants):
+    variants: list[Any] = [(None, None)] if config.output.baseline else []
+    variants += [(pp, form) for pp in config.preprocessor for form in config.formulation.forms()]
+    for operator, (pp, form) in ((o, v) for o in config.operator for v in variants):
         model = CompositeModel(
             operator,
             structure=structure,
@@ -92,7 +96,7 @@ def train(
             if pp is None
             else registry.create("preprocessor", pp.name, **pp.params),
             training=config.training,
-            formulation=None if pp is None else config.formulation,
+            formulation=form,
         )
         z_train = z_val = None
         if pp is not None:
@@ -146,6 +150,8 @@ class Evaluation:
     data: Dataset
     predictions: dict[str, Any]
     metrics: dict[str, dict[str, Any]]
+    worse_than_physics: dict[str, dict[str, list]] = field(default_factory=dict)
+    chosen_forms: dict[str, str] = field(default_factory=dict)
 
 
 COVERAGE_LEVELS = (0.68, 0.90)
@@ -199,11 +205,14 @@ def evaluate(
         "validation": len(data.rows("val")),
         "training": len(data.rows("train")[slice(config.training.train_records)]),
     }
+    val_gm, val_u = data.motions("val"), data.targets("val")
     results: dict[str, dict[str, Any]] = {}
     predictions: dict[str, Any] = {}
     for pp in config.preprocessor:
-        z = data.physics(pp.name, "test")
-        results[f"physics-{pp.name}"] = _metric_row(z, test_u)
+        results[f"physics-{pp.name}"] = {
+            **_metric_row(data.physics(pp.name, "test"), test_u),
+            "validation_rel_l2": metrics.relative_l2(data.physics(pp.name, "val"), val_u).tolist(),
+        }
     for label in model_labels(config):
         directory = out / MODELS / label
         if not (directory / "model.json").exists():
@@ -213,6 +222,11 @@ def evaluate(
         stages = model.predict_stages(test_gm, z=z)
         predictions[label] = stages
         results[label] = _metric_row(stages.mean, test_u)
+        if model.preprocessor is not None:
+            name = model.preprocessor.name
+            validation = model.predict_stages(val_gm, z=data.physics(name, "val")).mean
+            results[label]["validation_rel_l2"] = metrics.relative_l2(validation, val_u).tolist()
+            results[label]["physics_input"] = f"physics-{name}"
         if model.refiner is not None:
             calibrated_on = calibration_records[model.refiner.calibration_split]
             results[label].update(
@@ -223,15 +237,21 @@ def evaluate(
         results[label]["best_epoch"] = model.history_.best_epoch
         results[label]["train_seconds"] = model.history_.seconds
         results[label]["device"] = model.history_.device
+    worse = against_physics.shortfalls(results, list(data.output_names))
+    for line in against_physics.describe_shortfalls(worse):
+        say(f"warning: {line}")
+    chosen = against_physics.chosen_forms(results)
     document = {
         "models": results,
         "output_names": list(data.output_names),
         "sizes": {**data.sizes, "train": calibration_records["training"]},
         "epochs": config.training.epochs,
         "precision": config.training.precision,
+        "worse_than_physics": worse,
+        "chosen_forms": chosen,
     }
     (out / "metrics.json").write_text(json.dumps(document, indent=2))
-    return Evaluation(data, predictions, results)
+    return Evaluation(data, predictions, results, worse, chosen)
 
 
 def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Evaluation:

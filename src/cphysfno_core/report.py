@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from . import figures
+from .against_physics import describe_shortfalls
 from .config import ExperimentConfig
 from .data import SPLITS
 from .intensity import SpectrumBand
@@ -205,6 +206,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         ]
         lines.append(f"| {label} | {row['peak_r2']:.3f} | {' | '.join(cells)} |")
     lines += _coverage_error_note(models)
+    lines += _against_physics_section(evaluation)
     if written:
         lines += ["", "## Figures", ""]
         lines += [f"![{p.stem}]({p.relative_to(out).as_posix()})" for p in written]
@@ -235,3 +237,20 @@ def _coverage_error_note(models: dict[str, dict]) -> list[str]:
         f"{100 * largest[68]:.1f} points at 68 % and {100 * largest[90]:.1f} at 90 % here "
         "(per DOF: `coverage_68_se`, `coverage_90_se` in metrics.json).",
     ]
+
+
+def _against_physics_section(evaluation: Evaluation) -> list[str]:
+    """Which C-Phys models end worse than their physics input, and which formulation the
+    validation split chose where both were trained."""
+    if not any("physics_input" in row for row in evaluation.metrics.values()):
+        return []
+    lines = ["", "## Against the physics input", ""]
+    worse = describe_shortfalls(evaluation.worse_than_physics)
+    lines += [f"- {line}." for line in worse] or [
+        "Every C-Phys model is at or below its physics input z on every output, on the "
+        "validation and the test split."
+    ]
+    if evaluation.chosen_forms:
+        lines += ["", "Chosen on the validation split, where both forms were trained:", ""]
+        lines += [f"- {paper}: `{chosen}`" for paper, chosen in evaluation.chosen_forms.items()]
+    return lines

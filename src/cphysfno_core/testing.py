@@ -139,7 +139,8 @@ def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
     T, gradients reach every parameter, a state-dict round trip reproduces the output, the
     state dict holds tensors only, under bfloat16 autocast (``precision="bfloat16"`` in
     prediction and training) the output stays within 5 % of float32's and the gradients
-    within 25 %, and a wrong input raises the package's own error."""
+    within 25 %, ``zero_output_()`` zeroes the output without stopping it from learning,
+    and a wrong input raises the package's own error."""
     torch.manual_seed(0)
     operator = cls(3, 2, **hyper)
     for steps in (64, 101):
@@ -163,7 +164,25 @@ def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
         if not torch.equal(operator(x), rebuilt(x)):
             raise _fail(operator, "a state_dict round trip changes the output")
     _check_bfloat16(operator, x)
+    _check_zero_start(cls, hyper, x)
     _expect(operator, CphysfnoError, operator, torch.randn(2, 50, 4))
+
+
+def _check_zero_start(cls: type[NeuralOperator], hyper: dict[str, Any], x: torch.Tensor) -> None:
+    """After ``zero_output_()`` the output is zero, and one optimiser step towards a
+    non-zero target moves it (the residual formulation starts from the physics response)."""
+    torch.manual_seed(2)
+    operator = cls(3, 2, **hyper)
+    operator.zero_output_()
+    with torch.no_grad():
+        if operator(x).abs().max() != 0:
+            raise _fail(operator, "after zero_output_() the output is not zero")
+    optimiser = torch.optim.Adam(operator.parameters(), lr=1e-2)
+    (operator(x) - 1.0).square().mean().backward()
+    optimiser.step()
+    with torch.no_grad():
+        if operator(x).abs().max() == 0:
+            raise _fail(operator, "after zero_output_() one optimiser step leaves the output zero")
 
 
 def _check_bfloat16(operator: NeuralOperator, x: torch.Tensor) -> None:
