@@ -60,3 +60,27 @@ def test_linear_system_checks_shapes():
     assert system.n_dof == 2
     with pytest.raises(cp.InputError, match=r"stiffness must be \[2, 2\]"):
         cp.LinearSystem(eye, eye, np.eye(3), np.ones(2), eye)
+
+
+def test_state_space_of_a_single_oscillator_is_the_textbook_one():
+    m, c, k = 2.0, 0.3, 50.0
+    system = cp.LinearSystem([[m]], [[c]], [[k]], [1.0], [[1.0]])
+    a, b = system.state_space()
+    np.testing.assert_allclose(a, [[0.0, 1.0], [-k / m, -c / m]])
+    np.testing.assert_allclose(b, [0.0, -1.0])
+
+
+def test_rayleigh_damping_matches_its_ratio_at_both_frequencies():
+    damping = cp.Rayleigh.matching(2.0, 12.0, 0.05)
+    # a0 = 2 zeta w_a w_b / (w_a + w_b), a1 = 2 zeta / (w_a + w_b)
+    assert damping.mass_factor == pytest.approx(2 * 0.05 * 24.0 / 14.0)
+    assert damping.stiffness_factor == pytest.approx(0.1 / 14.0)
+    np.testing.assert_allclose(damping.ratio(np.array([2.0, 12.0])), 0.05)
+    assert damping.ratio(np.sqrt(24.0)) < 0.05  # least damped between the two
+    mass, stiffness = np.diag([2.0, 1.0]), np.array([[3.0, -1.0], [-1.0, 1.0]])
+    np.testing.assert_allclose(
+        damping.matrix(mass, stiffness),
+        damping.mass_factor * mass + damping.stiffness_factor * stiffness,
+    )
+    with pytest.raises(cp.InputError, match="Rayleigh frequencies"):
+        cp.Rayleigh.matching(0.0, 12.0, 0.05)

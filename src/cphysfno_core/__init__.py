@@ -34,7 +34,15 @@ from .interfaces import (
     Structure,
 )
 from .registry import Registry, create, get_registry
-from .signals import GroundMotions, LinearSystem, Responses, TimeGrid
+from .signals import (
+    GroundMotions,
+    LinearSystem,
+    Rayleigh,
+    Responses,
+    TimeGrid,
+    check_finite,
+    check_time_step,
+)
 
 __version__ = "0.1.0"
 
@@ -66,6 +74,7 @@ __all__ = [
     "PluginError",
     "Params",
     "PhysicsPreprocessor",
+    "Rayleigh",
     "Refiner",
     "Registry",
     "RegistryError",
@@ -73,6 +82,8 @@ __all__ = [
     "RestoringForce",
     "Structure",
     "TimeGrid",
+    "check_finite",
+    "check_time_step",
     "create",
     "get_registry",
     "hookimpl",

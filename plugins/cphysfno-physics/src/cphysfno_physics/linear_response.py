@@ -58,24 +58,13 @@ def linear_response(system: LinearSystem, acceleration: np.ndarray, dt: float) -
         ground, float64.
     """
     ag = np.atleast_2d(np.asarray(acceleration, dtype=np.float64))
-    a, b = state_space(system)
+    a, b = system.state_space()
     phi, gamma0, gamma1 = first_order_hold(a, b, dt)
     eigenvalues, vectors = np.linalg.eig(a)
     output_map = np.hstack([system.output_map, np.zeros_like(system.output_map)])
     if _in_conjugate_pairs(eigenvalues) and _well_conditioned(vectors):
         return _eigen_response(eigenvalues, vectors, gamma0, gamma1, output_map, ag, dt)
     return _recurrence_response(phi, gamma0, gamma1, output_map, ag)
-
-
-def state_space(system: LinearSystem) -> tuple[np.ndarray, np.ndarray]:
-    """``A [2 n_dof, 2 n_dof]`` and ``B = [0, -r]`` ``[2 n_dof]`` of ``x = [u (m), u' (m/s)]``."""
-    n = system.n_dof
-    a = np.zeros((2 * n, 2 * n))
-    a[:n, n:] = np.eye(n)
-    a[n:, :n] = -np.linalg.solve(system.mass, system.stiffness)
-    a[n:, n:] = -np.linalg.solve(system.mass, system.damping)
-    b = np.concatenate([np.zeros(n), -system.influence])
-    return a, b
 
 
 def first_order_hold(
