@@ -17,7 +17,7 @@ import numpy as np
 import torch
 
 import cphysfno_core as cp
-from cphysfno_core.metrics import relative_l2
+from cphysfno_core.reporting.metrics import relative_l2
 
 from .common import Row, best_time
 from .prediction import EXAMPLE1_OPERATOR

@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 import cphysfno_core as cp
-from cphysfno_core import metrics
+from cphysfno_core.reporting import metrics
 
 from .common import Row, load_average
 

@@ -40,7 +40,7 @@ from cphysfno_opensees.sac9_frame import Sac9Frame
 from cphysfno_opensees.sac9_phases import elastic_start
 
 import cphysfno_core as cp
-from cphysfno_core.config import load_config
+from cphysfno_core.config.experiment import load_config
 
 from .common import Row, format_rows, load_average
 

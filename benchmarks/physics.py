@@ -18,7 +18,7 @@ import numpy as np
 import scipy.signal
 
 import cphysfno_core as cp
-from cphysfno_core import metrics
+from cphysfno_core.reporting import metrics
 
 from .common import Row, best_time, load_average
 

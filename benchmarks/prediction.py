@@ -25,8 +25,8 @@ from pydantic import Field
 from scipy.linalg import eigh
 
 import cphysfno_core as cp
-from cphysfno_core import composite
-from cphysfno_core.training import Normalizer, TrainingHistory, describe_device
+from cphysfno_core.model import composite
+from cphysfno_core.model.training import Normalizer, TrainingHistory, describe_device
 
 from .common import Row, best_time
 from .training import best_matmul_rate

@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 
 import cphysfno_core as cp
-from cphysfno_core.intensity import response_spectrum, velocity_displacement
+from cphysfno_core.signals.intensity import response_spectrum, velocity_displacement
 
 from .common import Row, load_average
 

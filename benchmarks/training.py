@@ -23,7 +23,7 @@ from cphysfno_fno.dense import product
 
 import cphysfno_core as cp
 from cphysfno_core import TrainingConfig
-from cphysfno_core.training import (
+from cphysfno_core.model.training import (
     Normalizer,
     describe_device,
     resolve_device,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core.registry import set_registry
+from cphysfno_core.api.registry import set_registry
 
 sys.path.insert(0, str(Path(__file__).parent))
 

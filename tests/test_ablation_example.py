@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 from toy_experiment import toy_experiment
 
-from cphysfno_core import CompositeModel, load_dataset, metrics
+from cphysfno_core import CompositeModel, load_dataset
+from cphysfno_core.reporting import metrics
 
 SCRIPT = Path(__file__).parents[1] / "examples" / "ablation" / "run_ablation.py"
 

@@ -2,7 +2,7 @@
 
 import pytest
 
-from cphysfno_core import against_physics
+from cphysfno_core.reporting import against_physics
 
 NAMES = ["story-1", "story-2"]
 

@@ -9,7 +9,7 @@ import pytest
 PROGRAM = """
 import resource, sys
 import numpy as np
-from cphysfno_core.allocator import retain_freed_memory
+from cphysfno_core.model.allocator import retain_freed_memory
 if sys.argv[1] == "retain":
     assert retain_freed_memory()
 before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
@@ -45,7 +45,7 @@ def test_retained_blocks_are_reused_without_page_faults(megafloats):
 HUGE_PAGE_PROGRAM = """
 import subprocess, sys
 from numpy._core.multiarray import _get_madvise_hugepage
-from cphysfno_core.allocator import skip_huge_page_advice
+from cphysfno_core.model.allocator import skip_huge_page_advice
 assert skip_huge_page_advice()
 child = "from numpy._core.multiarray import _get_madvise_hugepage as g; print(g())"
 started = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True)

@@ -8,7 +8,7 @@ import pytest
 import torch
 
 import cphysfno_core as cp
-from cphysfno_core.training import describe_device, resolve_device
+from cphysfno_core.model.training import describe_device, resolve_device
 
 CUDA = torch.cuda.is_available()
 

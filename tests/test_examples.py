@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core.cli import main
+from cphysfno_core.app.cli import main
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 
@@ -139,7 +139,7 @@ def test_the_cpu_configs_of_examples_2_and_3_are_the_full_ones_cut_down():
     [("sac9-frame-cpu", "sac9-frame-cpu-residual"), ("sac9-frame", "sac9-frame-residual")],
 )
 def test_the_residual_frame_configs_reuse_their_frame_data(plain: str, residual: str):
-    from cphysfno_core.data import dataset_hash
+    from cphysfno_core.data.datasets import dataset_hash
 
     paper = cp.load_config(EXAMPLES / f"{plain}.toml")
     beyond = cp.load_config(EXAMPLES / f"{residual}.toml")

@@ -8,8 +8,8 @@ import time
 import pytest
 from worker_tasks import fail_or_finish_late
 
-from cphysfno_core.config import DataConfig
-from cphysfno_core.executors import run_tasks
+from cphysfno_core.config.experiment import DataConfig
+from cphysfno_core.data.executors import run_tasks
 
 
 def test_a_failed_task_terminates_the_tasks_still_running(toys_in_workers, tmp_path):

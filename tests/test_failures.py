@@ -6,7 +6,7 @@ import pytest
 import toy_components
 
 import cphysfno_core as cp
-from cphysfno_core import pipeline
+from cphysfno_core.app import pipeline
 
 CONFIG = {
     "ground_motion": {"name": "toy-source", "n_steps": 60, "scale": 0.2},

@@ -4,7 +4,7 @@ import numpy as np
 import torch
 from toy_training import fit_toy, toy_data
 
-from cphysfno_core import training
+from cphysfno_core.model import training
 
 
 def test_the_fused_adam_trains_as_the_standard_one(toy_registry, monkeypatch):

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core import generation
+from cphysfno_core.data import generation
 
 BASE = {
     "structure": {"name": "toy-structure"},

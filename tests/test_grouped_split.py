@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core import generation
-from cphysfno_core.data import dataset_hash
-from cphysfno_core.grouped_split import grouped_order
+from cphysfno_core.data import generation
+from cphysfno_core.data.datasets import dataset_hash
+from cphysfno_core.data.splits import grouped_order
 
 
 class ToyStations(cp.GroundMotionSource):

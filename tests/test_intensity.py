@@ -13,7 +13,7 @@ import scipy.linalg
 import scipy.signal
 
 import cphysfno_core as cp
-from cphysfno_core import intensity
+from cphysfno_core.signals import intensity
 
 ZETA = 0.05
 

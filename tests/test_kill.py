@@ -44,7 +44,7 @@ def test_sigkill_at_any_point_then_the_same_command_finishes(toy_registry, tmp_p
     command = [
         sys.executable,
         "-m",
-        "cphysfno_core.cli",
+        "cphysfno_core.app.cli",
         "generate",
         str(config),
         "--out",

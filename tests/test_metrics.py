@@ -3,8 +3,8 @@ import pytest
 import torch
 
 import cphysfno_core as cp
-from cphysfno_core import metrics
-from cphysfno_core.training import relative_l2_loss
+from cphysfno_core.model.training import relative_l2_loss
+from cphysfno_core.reporting import metrics
 
 
 def _pair():

@@ -5,9 +5,11 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core import generation, pipeline, precision
-from cphysfno_core.cli import main
-from cphysfno_core.simulation import simulate_chunk
+from cphysfno_core.app import pipeline
+from cphysfno_core.app.cli import main
+from cphysfno_core.config import precision
+from cphysfno_core.data import generation
+from cphysfno_core.data.simulation import simulate_chunk
 
 CONFIG = """
 [structure]
@@ -118,7 +120,7 @@ def test_every_operator_of_the_config_gets_every_model(toy_registry, tmp_path):
 def test_physics_row_is_the_preprocessor_error(toy_registry, tmp_path):
     out = tmp_path / "run"
     config = cp.load_config(_config(tmp_path))
-    from cphysfno_core import pipeline
+    from cphysfno_core.app import pipeline
 
     pipeline.generate(config, out)
     data = cp.load_dataset(out / "dataset.h5")

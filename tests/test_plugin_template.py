@@ -81,7 +81,7 @@ def template(tmp_path_factory) -> tuple[Path, dict[str, str]]:
 def cphysfno(environment: dict[str, str], *args: str) -> subprocess.CompletedProcess:
     """``cphysfno *args`` in a subprocess that sees ``environment``."""
     return subprocess.run(
-        [sys.executable, "-m", "cphysfno_core.cli", *args],
+        [sys.executable, "-m", "cphysfno_core.app.cli", *args],
         capture_output=True,
         text=True,
         env=environment,

@@ -10,7 +10,7 @@ import toy_components
 from toy_training import toy_data
 
 import cphysfno_core as cp
-from cphysfno_core import precision
+from cphysfno_core.config import precision
 
 
 def test_an_operator_of_plain_modules_predicts_in_bfloat16(trained_toy, monkeypatch):

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core.cli import main
+from cphysfno_core.app.cli import main
 
 
 @pytest.fixture

@@ -4,7 +4,7 @@ import pytest
 import toy_components
 
 import cphysfno_core as cp
-from cphysfno_core.cli import main
+from cphysfno_core.app.cli import main
 
 
 def test_create_builds_a_validated_component(toy_registry):
@@ -78,7 +78,7 @@ def test_a_broken_plugin_is_reported_and_the_rest_still_work():
 
 
 def test_autoload_can_be_disabled_and_plugins_named(monkeypatch):
-    from cphysfno_core.registry import get_registry, set_registry
+    from cphysfno_core.api.registry import get_registry, set_registry
 
     monkeypatch.setenv("CPHYSFNO_DISABLE_PLUGIN_AUTOLOAD", "1")
     monkeypatch.setenv("CPHYSFNO_PLUGINS", "toy_components")

@@ -11,11 +11,11 @@ import toy_components
 from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
-from cphysfno_core import figures
-from cphysfno_core.cli import main
-from cphysfno_core.intensity import SpectrumBand
-from cphysfno_core.paper_tables import PAPER_TABLES, paper_table
-from cphysfno_core.registry import set_registry
+from cphysfno_core.api.registry import set_registry
+from cphysfno_core.app.cli import main
+from cphysfno_core.reporting import figures
+from cphysfno_core.reporting.paper_tables import PAPER_TABLES, paper_table
+from cphysfno_core.signals.intensity import SpectrumBand
 
 
 class BandedSource(toy_components.ToySource):

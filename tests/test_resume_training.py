@@ -7,8 +7,8 @@ from toy_experiment import toy_experiment
 from toy_training import fit_toy, toy_data
 
 import cphysfno_core as cp
-from cphysfno_core import pipeline
-from cphysfno_core.cli import main
+from cphysfno_core.app import pipeline
+from cphysfno_core.app.cli import main
 
 
 class Killed(Exception):

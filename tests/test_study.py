@@ -10,10 +10,10 @@ import toy_components
 from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
-from cphysfno_core import pipeline, study
-from cphysfno_core.cli import main
-from cphysfno_core.registry import set_registry
-from cphysfno_core.study_report import write_study_report
+from cphysfno_core.api.registry import set_registry
+from cphysfno_core.app import pipeline, study
+from cphysfno_core.app.cli import main
+from cphysfno_core.app.study_report import write_study_report
 
 BASE = {
     "structure": {"name": "toy-structure", "cubic": 40.0},

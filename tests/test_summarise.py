@@ -7,8 +7,8 @@ import pytest
 from toy_experiment import toy_experiment
 
 from cphysfno_core import ConfigError
-from cphysfno_core.cli import main
-from cphysfno_core.study import summarise_runs
+from cphysfno_core.app.cli import main
+from cphysfno_core.app.study import summarise_runs
 
 
 def _run(tmp_path, seed, n_test=3):

@@ -3,7 +3,7 @@
 import pytest
 from toy_training import fit_toy, toy_data
 
-from cphysfno_core import training
+from cphysfno_core.model import training
 
 
 class TenSecondClock:

@@ -7,8 +7,8 @@ from typing import Any
 
 from mkdocs.structure.files import File
 
-from cphysfno_core import config as config_module
-from cphysfno_core.registry import get_registry
+from cphysfno_core.api.registry import get_registry
+from cphysfno_core.config import experiment as config_module
 
 SECTIONS = [
     ("[data]", config_module.DataConfig),

@@ -40,8 +40,8 @@ from cphysfno_core import (
     load_dataset,
     metrics,
 )
-from cphysfno_core.composite import Prediction
-from cphysfno_core.pipeline import interval_coverage_scores
+from cphysfno_core.app.pipeline import interval_coverage_scores
+from cphysfno_core.model.composite import Prediction
 
 TRAINING_FIELDS = ("epochs", "learning_rate", "decay_step", "decay_factor", "seed")
 """Training settings recorded with each row."""

@@ -11,7 +11,7 @@ import json
 import cphysfno_core as cp
 import numpy as np
 import pytest
-from cphysfno_core.cli import main
+from cphysfno_core.app.cli import main
 
 SMALL = dict(sensors=32, latent=8, branch_width=16, trunk_width=16, fourier_features=4)
 

@@ -7,7 +7,7 @@ import math
 import pytest
 import torch
 from cphysfno_core import ConfigError, InputError, Registry
-from cphysfno_core.training import relative_l2_loss
+from cphysfno_core.model.training import relative_l2_loss
 
 from cphysfno_deeponet import DeepONet
 

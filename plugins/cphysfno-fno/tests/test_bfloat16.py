@@ -11,7 +11,7 @@ from cphysfno_fno.dense import add_product_, dense, product, uses_onednn
 from cphysfno_fno.fused import fourier_layer
 
 from cphysfno_core import TrainingConfig
-from cphysfno_core.training import Normalizer, train_operator
+from cphysfno_core.model.training import Normalizer, train_operator
 
 BFLOAT16_STEP = 2.0**-7
 """Spacing of bfloat16 numbers relative to their value, at most (8-bit significand)."""

@@ -8,7 +8,7 @@ import torch
 from cphysfno_fno import FNO1d
 
 import cphysfno_core as cp
-from cphysfno_core import composite
+from cphysfno_core.model import composite
 
 SMALL = dict(layers=2, modes=8, width=16, projection_width=32)
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.signal
-from cphysfno_core.intensity import response_spectrum, velocity_displacement
+from cphysfno_core.signals.intensity import response_spectrum, velocity_displacement
 from scipy.integrate import cumulative_trapezoid
 
 from cphysfno_ground_motions import SpectrumCompatible

@@ -10,7 +10,7 @@ import cphysfno_core
 import numpy as np
 import pytest
 from cphysfno_core import ConfigError, DatasetError
-from cphysfno_core.intensity import response_spectrum
+from cphysfno_core.signals.intensity import response_spectrum
 
 from cphysfno_ground_motions import GroundMotionWarning, Recorded, read_flatfile
 

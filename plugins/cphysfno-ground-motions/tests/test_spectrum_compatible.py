@@ -11,7 +11,7 @@ import warnings
 import cphysfno_core
 import numpy as np
 import pytest
-from cphysfno_core.intensity import response_spectrum
+from cphysfno_core.signals.intensity import response_spectrum
 from scipy.integrate import cumulative_trapezoid
 
 from cphysfno_ground_motions import GroundMotionWarning, SpectrumCompatible, plot_spectra
@@ -23,7 +23,7 @@ BATCH = 40
 
 def independent_misfit(motions, periods) -> np.ndarray:
     """``[n]`` ``exp(max |ln(PSA / target)|) - 1`` of each record against its own drawn
-    target, PSA from :func:`cphysfno_core.intensity.response_spectrum`."""
+    target, PSA from :func:`cphysfno_core.signals.intensity.response_spectrum`."""
     psa = response_spectrum(motions.acceleration, motions.dt, periods).pseudo_acceleration
     drawn = np.array([m["target_psa"] for m in motions.metadata])
     return np.expm1(np.abs(np.log(psa / drawn)).max(axis=1))

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import torch
 from cphysfno_core import ConfigError, InputError, PluginError, Registry
-from cphysfno_core.training import relative_l2_loss
+from cphysfno_core.model.training import relative_l2_loss
 from cphysfno_fno import FNO1d
 
 from cphysfno_neuralop import NeuralopFNO

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 from cphysfno_core import DatasetError
-from cphysfno_core.intensity import STANDARD_GRAVITY
+from cphysfno_core.signals.intensity import STANDARD_GRAVITY
 
 from .record import Record
 

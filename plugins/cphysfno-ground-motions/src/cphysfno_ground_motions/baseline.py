@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from cphysfno_core.intensity import velocity_displacement
+from cphysfno_core.signals.intensity import velocity_displacement
 
 
 def baseline_correct(acceleration: np.ndarray, dt: float, weight: np.ndarray) -> np.ndarray:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from cphysfno_core.errors import CphysfnoWarning
+from cphysfno_core.signals.errors import CphysfnoWarning
 
 
 class GroundMotionWarning(CphysfnoWarning):

@@ -19,7 +19,7 @@ import h5py
 import hdf5plugin  # noqa: F401  (registers the BLOSC filter with HDF5)
 import numpy as np
 from cphysfno_core import DatasetError
-from cphysfno_core.intensity import STANDARD_GRAVITY
+from cphysfno_core.signals.intensity import STANDARD_GRAVITY
 
 from .record import Record
 

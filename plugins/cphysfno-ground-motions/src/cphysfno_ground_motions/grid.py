@@ -1,5 +1,5 @@
 """Putting records of various time steps and lengths on one time grid, resampled with
-anti-aliasing by :func:`cphysfno_core.resampling.resample`."""
+anti-aliasing by :func:`cphysfno_core.signals.resampling.resample`."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import warnings
 
 import numpy as np
 from cphysfno_core import DatasetError, GroundMotions
-from cphysfno_core.resampling import resample, same_step
+from cphysfno_core.signals.resampling import resample, same_step
 
 from .errors import GroundMotionWarning
 from .record import Record, describe

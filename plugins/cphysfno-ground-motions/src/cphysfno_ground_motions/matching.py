@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft
-from cphysfno_core.intensity import oscillator_displacement, response_spectrum
+from cphysfno_core.signals.intensity import oscillator_displacement, response_spectrum
 
 from .baseline import baseline_correct
 
@@ -126,7 +126,7 @@ def peak_responses(
 
     Returns:
         ``(value [n, P] in m, index [n, P])``: ``|value|`` is the spectral displacement of
-        :func:`cphysfno_core.intensity.response_spectrum`, reached at sample ``index``.
+        :func:`cphysfno_core.signals.intensity.response_spectrum`, reached at sample ``index``.
     """
     n = records.shape[0]
     value = np.empty((n, periods.size))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from cphysfno_core.intensity import (
+from cphysfno_core.signals.intensity import (
     arias_intensity,
     peak_ground_acceleration,
     peak_ground_velocity,

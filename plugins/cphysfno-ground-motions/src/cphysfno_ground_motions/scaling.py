@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 from cphysfno_core import GroundMotions
-from cphysfno_core.intensity import peak_ground_acceleration, response_spectrum
+from cphysfno_core.signals.intensity import peak_ground_acceleration, response_spectrum
 
 
 def factors_to_target(

@@ -30,7 +30,7 @@ from typing import Literal
 
 import numpy as np
 from cphysfno_core import GroundMotions, GroundMotionSource, InputError, Params
-from cphysfno_core.intensity import SpectrumBand
+from cphysfno_core.signals.intensity import SpectrumBand
 from pydantic import Field, PositiveFloat, ValidationInfo, field_validator
 
 from .errors import GroundMotionWarning

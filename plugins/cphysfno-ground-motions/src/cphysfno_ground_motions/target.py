@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from cphysfno_core import InputError
-from cphysfno_core.intensity import STANDARD_GRAVITY, SpectrumBand
+from cphysfno_core.signals.intensity import STANDARD_GRAVITY, SpectrumBand
 from scipy.stats import norm
 
 

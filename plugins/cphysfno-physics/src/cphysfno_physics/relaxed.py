@@ -7,7 +7,7 @@ from pydantic import Field
 
 import cphysfno_core
 from cphysfno_core import GroundMotions, PhysicsPreprocessor, Structure
-from cphysfno_core.resampling import resample
+from cphysfno_core.signals.resampling import resample
 
 from .fitted import check_fitted
 
@@ -59,7 +59,7 @@ def coarse_motions(motions: GroundMotions, factor: int) -> GroundMotions:
     """``motions`` on the grid of step ``factor * dt``, anti-aliased.
 
     Each record is zero-padded to a whole number of coarse steps and resampled by
-    :func:`cphysfno_core.resampling.resample` (a zero-phase polyphase FIR low-pass with its
+    :func:`cphysfno_core.signals.resampling.resample` (a zero-phase polyphase FIR low-pass with its
     cut-off at the coarse Nyquist frequency ``1 / (2 factor dt)``), so coarse sample ``j``
     lies at ``j factor dt`` s.
 

@@ -7,14 +7,15 @@ from pathlib import Path
 
 import numpy as np
 
+from ..api.registry import get_registry
+from ..config.experiment import ExperimentConfig
+from ..data.datasets import SPLITS
+from ..data.layout import MODELS
+from ..signals.intensity import SpectrumBand
 from . import figures
 from .against_physics import describe_shortfalls
-from .config import ExperimentConfig
-from .data import SPLITS
-from .intensity import SpectrumBand
+from .evaluation import Evaluation
 from .paper_tables import PaperTable, paper_table
-from .pipeline import MODELS, Evaluation
-from .registry import get_registry
 
 
 def describe_operators(config: ExperimentConfig) -> str:

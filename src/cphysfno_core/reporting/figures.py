@@ -7,22 +7,25 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
+from scipy.signal import welch
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from scipy.signal import welch  # noqa: E402
-
-from .intensity import STANDARD_GRAVITY, SpectrumBand, response_spectrum  # noqa: E402
+from ..signals.intensity import STANDARD_GRAVITY, SpectrumBand, response_spectrum
 
 DPI = 130
 
 
-def _save(fig, path: Path) -> Path:
+def _subplots(*grid: int, figsize: tuple[float, float], **options):
+    """A figure and its axes, drawn without pyplot (matplotlib's backend is left as the
+    user set it)."""
+    figure = Figure(figsize=figsize)
+    return figure, figure.subplots(*grid, **options)
+
+
+def _save(fig: Figure, path: Path) -> Path:
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
-    plt.close(fig)
     return path
 
 
@@ -36,7 +39,7 @@ def trajectories(
 ) -> Path:
     """Predicted vs true displacement of every DOF (left) and the absolute error (right)."""
     n = truth.shape[1]
-    fig, axes = plt.subplots(n, 2, figsize=(11, 1.6 * n + 1), sharex=True, squeeze=False)
+    fig, axes = _subplots(n, 2, figsize=(11, 1.6 * n + 1), sharex=True, squeeze=False)
     for i in range(n):
         ax = axes[n - 1 - i, 0]
         ax.plot(time, truth[:, i], color="k", lw=0.9, label="truth")
@@ -62,7 +65,7 @@ def model_comparison(
 ) -> Path:
     """One DOF (usually the top story) predicted by every model, one panel per model."""
     labels = list(predictions)
-    fig, axes = plt.subplots(
+    fig, axes = _subplots(
         len(labels), 1, figsize=(10, 1.7 * len(labels) + 0.8), sharex=True, squeeze=False
     )
     for ax, label in zip(axes[:, 0], labels, strict=True):
@@ -85,7 +88,7 @@ def refined_band(
     path: Path,
 ) -> Path:
     """Refined mean with its ±1σ band against the truth."""
-    fig, ax = plt.subplots(figsize=(10, 3.2))
+    fig, ax = _subplots(figsize=(10, 3.2))
     ax.fill_between(time, mean - std, mean + std, color="tab:orange", alpha=0.35, label="±1σ")
     ax.plot(time, truth, color="k", lw=0.9, label="truth")
     ax.plot(time, mean, color="tab:red", lw=0.8, ls="--", label=f"{label} mean")
@@ -99,7 +102,7 @@ def peaks(
     true_peak: np.ndarray, predicted_peaks: dict[str, np.ndarray], name: str, path: Path
 ) -> Path:
     """Scatter of predicted vs true peak |u| across records, and their distributions."""
-    fig, (scatter, hist) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, (scatter, hist) = _subplots(1, 2, figsize=(11, 4.2))
     upper = max([true_peak.max(), *[p.max() for p in predicted_peaks.values()]]) * 1.05
     scatter.plot([0, upper], [0, upper], color="k", lw=0.8)
     bins = np.linspace(0, upper, 30)
@@ -122,7 +125,7 @@ def hysteresis(
     drift: np.ndarray, shear: np.ndarray, stories: list[int], names: list[str], path: Path
 ) -> Path:
     """Story shear vs interstory drift loops (``[T, n]`` arrays, m and N)."""
-    fig, axes = plt.subplots(1, len(stories), figsize=(5 * len(stories), 4), squeeze=False)
+    fig, axes = _subplots(1, len(stories), figsize=(5 * len(stories), 4), squeeze=False)
     for ax, story in zip(axes[0], stories, strict=True):
         ax.plot(drift[:, story] * 1e3, shear[:, story] / 1e3, color="tab:blue", lw=0.6)
         ax.set_xlabel("interstory drift (mm)")
@@ -135,7 +138,7 @@ def spectra(
     ag: np.ndarray, z: np.ndarray, u: np.ndarray, dt: float, time: np.ndarray, name: str, path: Path
 ) -> Path:
     """Time histories and Welch PSDs of a_g, z, u and the residual u - z (one DOF)."""
-    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5))
+    fig, axes = _subplots(2, 2, figsize=(11, 6.5))
     axes[0, 0].plot(time, ag, color="0.3", lw=0.5)
     axes[0, 0].set_ylabel("a_g (m/s²)")
     axes[0, 1].plot(time, u, color="k", lw=0.8, label="u")
@@ -191,7 +194,7 @@ def motion_spectra(
         periods = np.geomspace(low, high, 60)
     psa = response_spectrum(acceleration, dt, periods, damping).pseudo_acceleration
     g = STANDARD_GRAVITY
-    fig, ax = plt.subplots(figsize=(6.0, 4.5))
+    fig, ax = _subplots(figsize=(6.0, 4.5))
     for row in psa:
         ax.loglog(periods, row / g, color="0.65", lw=0.5, alpha=0.6)
     ax.plot([], [], color="0.65", lw=0.8, label=f"{psa.shape[0]} records")
@@ -219,7 +222,7 @@ def motion_spectra(
 
 def training_curves(histories: dict[str, dict], path: Path) -> Path:
     """Training and validation relative L2 per epoch of every model."""
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = _subplots(figsize=(7, 4))
     for i, (label, history) in enumerate(histories.items()):
         color = f"C{i}"
         epochs = np.arange(1, len(history["train_loss"]) + 1)
@@ -249,7 +252,7 @@ def sweep_boxes(
         names: output names.
         axis_label: the sweep's axis label.
     """
-    fig, axes = plt.subplots(1, len(dofs), figsize=(4.2 * len(dofs), 3.8), squeeze=False)
+    fig, axes = _subplots(1, len(dofs), figsize=(4.2 * len(dofs), 3.8), squeeze=False)
     labels = list(errors)
     width = 0.8 / max(len(labels), 1)
     for ax, dof in zip(axes[0], dofs, strict=True):

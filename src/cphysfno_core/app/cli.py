@@ -8,11 +8,11 @@ import sys
 import time
 from pathlib import Path
 
-from .allocator import tune_memory
-from .config import load_config
-from .errors import CphysfnoError
-from .precision import PRECISIONS
-from .registry import get_registry
+from ..api.registry import get_registry
+from ..config.experiment import load_config
+from ..config.precision import PRECISIONS
+from ..model.allocator import tune_memory
+from ..signals.errors import CphysfnoError
 
 
 def _plugins(args: argparse.Namespace) -> int:
@@ -57,8 +57,8 @@ def _plugins(args: argparse.Namespace) -> int:
 
 
 def _stage(args: argparse.Namespace) -> int:
+    from ..reporting.report import format_table, write_report
     from . import pipeline
-    from .report import format_table, write_report
 
     config = load_config(args.config)
     out = Path(args.out)
@@ -117,7 +117,7 @@ def _summarise(args: argparse.Namespace) -> int:
 
 
 def _predict(args: argparse.Namespace) -> int:
-    from .prediction_files import predict_file
+    from ..model.prediction_files import predict_file
 
     run = predict_file(
         args.model,
@@ -141,7 +141,7 @@ def _predict(args: argparse.Namespace) -> int:
 
 def _print_means(summary: dict, over: str) -> None:
     """Print the per-output mean relative L2 of every model of a study summary."""
-    from .report import format_table
+    from ..reporting.report import format_table
 
     means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
     print(f"relative L2 error per output, mean of {over} (test split):")

@@ -21,8 +21,8 @@ from typing import Any
 
 import pluggy
 
+from ..signals.errors import RegistryError
 from . import hookspecs
-from .errors import RegistryError
 from .interfaces import COMPONENT_BASES, KINDS, Params
 
 ENTRY_POINT_GROUP = "cphysfno"

@@ -12,8 +12,8 @@ from collections.abc import Callable, Sequence
 from contextlib import contextmanager
 from typing import Any
 
-from .config import DataConfig
-from .errors import ConfigError
+from ..config.experiment import DataConfig
+from ..signals.errors import ConfigError
 
 
 def _windowed(

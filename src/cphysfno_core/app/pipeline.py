@@ -9,25 +9,21 @@ from __future__ import annotations
 import json
 import shutil
 import sys
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import torch
 
-from . import against_physics, metrics
-from .composite import CompositeModel, model_label
-from .config import ExperimentConfig
-from .data import Dataset, load_dataset
-from .errors import DatasetError
-from .generation import generate_dataset
-from .interfaces import Refiner
-from .registry import get_registry
-from .training import resolve_device
-
-DATASET = "dataset.h5"
-MODELS = "models"
+from ..api.registry import get_registry
+from ..config.experiment import ExperimentConfig
+from ..data.datasets import load_dataset
+from ..data.generation import generate_dataset
+from ..data.layout import DATASET, MODELS
+from ..model.composite import CompositeModel, model_label
+from ..model.training import resolve_device
+from ..reporting import against_physics, metrics
+from ..reporting.evaluation import Evaluation, interval_coverage_scores, metric_row
+from ..signals.errors import DatasetError
 
 
 def say(message: str) -> None:
@@ -143,51 +139,6 @@ def _replace_dir(model: CompositeModel, directory: Path) -> Path:
     return model.save(directory)
 
 
-@dataclass
-class Evaluation:
-    """Test-split predictions of every model and its metrics."""
-
-    data: Dataset
-    predictions: dict[str, Any]
-    metrics: dict[str, dict[str, Any]]
-    worse_than_physics: dict[str, dict[str, list]] = field(default_factory=dict)
-    chosen_forms: dict[str, str] = field(default_factory=dict)
-
-
-COVERAGE_LEVELS = (0.68, 0.90)
-"""Nominal levels of the prediction intervals whose test coverage is reported."""
-
-
-def _metric_row(prediction: np.ndarray, truth: np.ndarray) -> dict:
-    return {
-        "rmse": metrics.rmse(prediction, truth).tolist(),
-        "rel_l2": metrics.relative_l2(prediction, truth).tolist(),
-        "peak_r2": metrics.peak_r2(prediction, truth),
-    }
-
-
-def interval_coverage_scores(
-    refiner: Refiner,
-    z: np.ndarray | None,
-    operator_output: np.ndarray,
-    truth: np.ndarray,
-    calibration_records: int,
-) -> dict[str, list[float]]:
-    """Coverage per DOF of a fitted refiner's intervals at each of :data:`COVERAGE_LEVELS`
-    (``coverage_68``, ``coverage_90``) and its standard error from the draw of the
-    ``[n, T, dof]`` records scored and of the ``calibration_records`` the refiner was fitted
-    on (``coverage_68_se``, ``coverage_90_se``)."""
-    found = {}
-    for level in COVERAGE_LEVELS:
-        lower, upper = refiner.interval(z, operator_output, level)
-        key = f"coverage_{round(100 * level)}"
-        found[key] = metrics.interval_coverage(lower, upper, truth).tolist()
-        found[f"{key}_se"] = metrics.coverage_standard_error(
-            lower, upper, truth, calibration_records
-        ).tolist()
-    return found
-
-
 def evaluate(
     config: ExperimentConfig, out: str | Path, dataset: str | Path | None = None
 ) -> Evaluation:
@@ -210,7 +161,7 @@ def evaluate(
     predictions: dict[str, Any] = {}
     for pp in config.preprocessor:
         results[f"physics-{pp.name}"] = {
-            **_metric_row(data.physics(pp.name, "test"), test_u),
+            **metric_row(data.physics(pp.name, "test"), test_u),
             "validation_rel_l2": metrics.relative_l2(data.physics(pp.name, "val"), val_u).tolist(),
         }
     for label in model_labels(config):
@@ -221,7 +172,7 @@ def evaluate(
         z = None if model.preprocessor is None else data.physics(model.preprocessor.name, "test")
         stages = model.predict_stages(test_gm, z=z)
         predictions[label] = stages
-        results[label] = _metric_row(stages.mean, test_u)
+        results[label] = metric_row(stages.mean, test_u)
         if model.preprocessor is not None:
             name = model.preprocessor.name
             validation = model.predict_stages(val_gm, z=data.physics(name, "val")).mean
@@ -260,7 +211,7 @@ def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Eval
     Raises:
         ConfigError: ``training.device`` is not on this machine (before any simulation).
     """
-    from .report import write_report
+    from ..reporting.report import write_report
 
     resolve_device(config.training.device)
     out = Path(out)

@@ -17,7 +17,7 @@ import numpy as np
 import scipy.signal
 
 from .errors import InputError
-from .signals import check_finite, check_time_step
+from .histories import check_finite, check_time_step
 
 STANDARD_GRAVITY = 9.80665
 """Standard acceleration of gravity g, m/s^2."""

@@ -18,9 +18,15 @@ from typing import Any
 import numpy as np
 import torch
 
-from .errors import CapabilityError, CphysfnoError, NotFittedError
-from .interfaces import GroundMotionSource, NeuralOperator, PhysicsPreprocessor, Refiner, Structure
-from .signals import GroundMotions, LinearSystem, Responses
+from ..api.interfaces import (
+    GroundMotionSource,
+    NeuralOperator,
+    PhysicsPreprocessor,
+    Refiner,
+    Structure,
+)
+from ..signals import GroundMotions, LinearSystem, Responses
+from ..signals.errors import CapabilityError, CphysfnoError, NotFittedError
 
 
 def _fail(component: Any, message: str) -> AssertionError:

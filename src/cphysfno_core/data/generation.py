@@ -26,16 +26,16 @@ from typing import Any
 import h5py
 import numpy as np
 
-from .config import DataConfig, ExperimentConfig
-from .data import SPLITS, check_dataset_identity, dataset_hash, parts_folder, versions
-from .errors import ConfigError, DatasetError
+from ..api.interfaces import GroundMotionSource
+from ..api.registry import get_registry
+from ..config.experiment import DataConfig, ExperimentConfig
+from ..signals import GroundMotions
+from ..signals.errors import ConfigError, DatasetError
+from ..signals.progress import time_left
+from .datasets import SPLITS, check_dataset_identity, dataset_hash, parts_folder, versions
 from .executors import run_tasks
-from .grouped_split import grouped_order
-from .interfaces import GroundMotionSource
-from .progress import time_left
-from .registry import get_registry
-from .signals import GroundMotions
 from .simulation import ChunkResult, simulate_chunk
+from .splits import grouped_order
 
 SAMPLE_BLOCK = 256
 """Records drawn per call from a source with independent draws. Fixed, so that the records

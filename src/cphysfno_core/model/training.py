@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from .config import TrainingConfig
-from .errors import ConfigError, DatasetError, InputError
-from .precision import operator_precision
-from .progress import time_left
+from ..config.experiment import TrainingConfig
+from ..config.precision import operator_precision
+from ..signals.errors import ConfigError, DatasetError, InputError
+from ..signals.progress import time_left
 
 FUSED_ADAM_DEVICES = ("cpu", "cuda")
 """Device types on which Adam runs fused (one kernel over all parameters) when every

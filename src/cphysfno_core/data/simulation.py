@@ -9,9 +9,9 @@ from typing import Any
 
 import numpy as np
 
-from .errors import PluginError
-from .registry import get_registry
-from .signals import GroundMotions
+from ..api.registry import get_registry
+from ..signals import GroundMotions
+from ..signals.errors import PluginError
 
 
 @dataclass

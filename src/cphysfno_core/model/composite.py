@@ -18,16 +18,7 @@ import numpy as np
 import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from .config import ComponentSpec, FormulationConfig, TrainingConfig
-from .errors import (
-    ConfigError,
-    DatasetError,
-    ExtrapolationWarning,
-    InputError,
-    NotFittedError,
-)
-from .intensity import STANDARD_GRAVITY, peak_ground_acceleration
-from .interfaces import (
+from ..api.interfaces import (
     NeuralOperator,
     PhysicsPreprocessor,
     Refiner,
@@ -35,9 +26,18 @@ from .interfaces import (
     format_validation_error,
     validate_params,
 )
-from .precision import Precision, operator_precision
-from .registry import get_registry
-from .signals import GroundMotions, TimeGrid
+from ..api.registry import get_registry
+from ..config.experiment import ComponentSpec, FormulationConfig, TrainingConfig
+from ..config.precision import Precision, operator_precision
+from ..signals import GroundMotions, TimeGrid
+from ..signals.errors import (
+    ConfigError,
+    DatasetError,
+    ExtrapolationWarning,
+    InputError,
+    NotFittedError,
+)
+from ..signals.intensity import STANDARD_GRAVITY, peak_ground_acceleration
 from .training import (
     EpochReport,
     Normalizer,

@@ -19,9 +19,9 @@ from typing import Any
 import h5py
 import numpy as np
 
-from .config import ExperimentConfig
-from .errors import DatasetError
-from .signals import GroundMotions
+from ..config.experiment import ExperimentConfig
+from ..signals import GroundMotions
+from ..signals.errors import DatasetError
 
 SPLITS = ("train", "val", "test")
 

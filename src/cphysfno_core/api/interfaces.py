@@ -18,9 +18,9 @@ import scipy.stats
 import torch
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from .errors import CapabilityError, ConfigError, InputError
-from .intensity import SpectrumBand
-from .signals import GroundMotions, LinearSystem, Responses
+from ..signals import GroundMotions, LinearSystem, Responses
+from ..signals.errors import CapabilityError, ConfigError, InputError
+from ..signals.intensity import SpectrumBand
 
 KINDS = ("structure", "ground_motion", "preprocessor", "operator", "refiner")
 

@@ -19,7 +19,7 @@ from typing import Literal
 
 import torch
 
-from .errors import CphysfnoWarning, InputError
+from ..signals.errors import CphysfnoWarning, InputError
 
 Precision = Literal["float32", "bfloat16"]
 PRECISIONS: tuple[str, ...] = ("float32", "bfloat16")

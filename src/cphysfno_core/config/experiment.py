@@ -13,10 +13,10 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from .errors import ConfigError
-from .interfaces import format_validation_error, validate_params
+from ..api.interfaces import format_validation_error, validate_params
+from ..api.registry import Registry, get_registry
+from ..signals.errors import ConfigError
 from .precision import Precision
-from .registry import Registry, get_registry
 
 
 class _Strict(BaseModel):

@@ -31,12 +31,13 @@ from typing import Any
 import numpy as np
 import torch
 
+from ..config.experiment import DataConfig, ExperimentConfig, parse_config
+from ..data.executors import run_tasks
+from ..data.layout import DATASET, MODELS
+from ..model.allocator import tune_memory
+from ..model.training import resolve_device
+from ..signals.errors import ConfigError
 from . import pipeline
-from .allocator import tune_memory
-from .config import DataConfig, ExperimentConfig, parse_config
-from .errors import ConfigError
-from .executors import run_tasks
-from .training import resolve_device
 
 RUNS = "runs"
 TABLE = "table"
@@ -153,7 +154,7 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
     (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
     runs = plan(config, out)
     pipeline.generate(config, out)
-    dataset = out / pipeline.DATASET
+    dataset = out / DATASET
     report_run = runs[0].folder
     todo = [(n, run) for n, run in enumerate(runs, start=1) if not _finished(run)]
     if jobs == 1:
@@ -211,7 +212,7 @@ def execute_run(run: Run, dataset: Path, report: bool = False) -> None:
     pipeline.train(run.config, run.folder, resume=True, dataset=dataset)
     evaluation = pipeline.evaluate(run.config, run.folder, dataset=dataset)
     if report:
-        from .report import write_report
+        from ..reporting.report import write_report
 
         write_report(run.config, evaluation, run.folder)
 
@@ -236,9 +237,9 @@ def _execute_logged(run: Run, dataset: Path, report: bool, threads: int) -> floa
 def _copy_models(run: Run) -> None:
     """Copy into ``run.folder`` the models its table run has finished training; any it
     has not, ``run`` trains itself."""
-    models = run.shares / pipeline.MODELS
+    models = run.shares / MODELS
     for label in pipeline.model_labels(run.config):
-        source, target = models / label, run.folder / pipeline.MODELS / label
+        source, target = models / label, run.folder / MODELS / label
         finished = (source / "model.json").exists()
         if finished and not (models / f"{label}.checkpoint.pt").exists() and not target.exists():
             pipeline.say(f"{label}: the same training as {run.shares.name} of the table, copied")

@@ -8,8 +8,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .data import SPLITS
-from .errors import ConfigError
+from ..signals.errors import ConfigError
+from .datasets import SPLITS
 
 
 def grouped_order(

@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..config.precision import Precision
+from ..signals import GroundMotions
+from ..signals.errors import DatasetError, InputError
 from .composite import CompositeModel
-from .errors import DatasetError, InputError
-from .precision import Precision
-from .signals import GroundMotions
 
 
 def read_motions(path: str | Path, dt: float | None = None) -> GroundMotions:

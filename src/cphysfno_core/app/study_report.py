@@ -6,10 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from . import figures
-from .config import ExperimentConfig
-from .paper_tables import PaperTable, paper_table
-from .report import describe_operators
+from ..config.experiment import ExperimentConfig
+from ..reporting import figures
+from ..reporting.paper_tables import PaperTable, paper_table
+from ..reporting.report import describe_operators
 from .study import RUNS, TABLE
 
 

@@ -1,0 +1,1 @@
+"""The application: the pipeline of a run, studies over seeds and sweeps, the command line."""

@@ -1,0 +1,62 @@
+"""Time histories with their time step, the package's errors, linear systems, resampling
+and intensity measures: the bottom layer, which imports no other part of the package.
+
+A plugin may import from here (``from cphysfno_core.signals import response_spectrum``)
+as from ``cphysfno_core`` itself.
+"""
+
+from .errors import (
+    CapabilityError,
+    ConfigError,
+    CphysfnoError,
+    CphysfnoWarning,
+    DatasetError,
+    ExtrapolationWarning,
+    InputError,
+    NotFittedError,
+    PluginError,
+    RegistryError,
+)
+from .histories import GroundMotions, Responses, TimeGrid, check_finite, check_time_step
+from .intensity import (
+    STANDARD_GRAVITY,
+    ResponseSpectrum,
+    SpectrumBand,
+    oscillator_displacement,
+    peak_ground_acceleration,
+    peak_ground_velocity,
+    response_spectrum,
+    velocity_displacement,
+)
+from .linear_system import LinearSystem, Rayleigh
+from .resampling import resample, same_step
+
+__all__ = [
+    "STANDARD_GRAVITY",
+    "CapabilityError",
+    "ConfigError",
+    "CphysfnoError",
+    "CphysfnoWarning",
+    "DatasetError",
+    "ExtrapolationWarning",
+    "GroundMotions",
+    "InputError",
+    "LinearSystem",
+    "NotFittedError",
+    "PluginError",
+    "Rayleigh",
+    "RegistryError",
+    "ResponseSpectrum",
+    "Responses",
+    "SpectrumBand",
+    "TimeGrid",
+    "check_finite",
+    "check_time_step",
+    "oscillator_displacement",
+    "peak_ground_acceleration",
+    "peak_ground_velocity",
+    "resample",
+    "response_spectrum",
+    "same_step",
+    "velocity_displacement",
+]
