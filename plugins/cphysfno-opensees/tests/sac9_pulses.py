@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from cphysfno_opensees.sac9_analysis import Rayleigh
+from cphysfno_opensees.sac9.analysis import Rayleigh
 
 DT = 0.01
 """Time step of :func:`pulse`, s."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cphysfno_opensees.bridge import AuburnRavineBridge
+from cphysfno_opensees.bridge.structure import AuburnRavineBridge
 
 import cphysfno_core as cp
 from cphysfno_core import CapabilityError, GroundMotions

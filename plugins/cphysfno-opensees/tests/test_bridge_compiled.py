@@ -7,9 +7,8 @@ import dataclasses
 
 import numpy as np
 import pytest
-from cphysfno_opensees.bridge import AuburnRavineBridge
-from cphysfno_opensees.bridge_analysis import analyse
-from cphysfno_opensees.bridge_compiled import (
+from cphysfno_opensees.bridge.analysis import analyse
+from cphysfno_opensees.bridge.compiled import (
     ITERATIVE,
     NON_ITERATIVE,
     analyse_compiled,
@@ -17,9 +16,10 @@ from cphysfno_opensees.bridge_compiled import (
     compile_bridge,
     on_substeps,
 )
-from cphysfno_opensees.bridge_model import build
+from cphysfno_opensees.bridge.model import build
+from cphysfno_opensees.bridge.structure import AuburnRavineBridge
+from cphysfno_opensees.fibre.columns import top_response
 from cphysfno_opensees.fibre.dynamics import cholesky_solve, newmark
-from cphysfno_opensees.fibre.rc_column import top_response
 from cphysfno_opensees.loader import import_opensees
 from cphysfno_opensees.transient import AnalysisFailed
 

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 import pytest
-from cphysfno_opensees.bridge import AuburnRavineBridge
-from cphysfno_opensees.bridge_model import build
+from cphysfno_opensees.bridge.model import build
+from cphysfno_opensees.bridge.structure import AuburnRavineBridge
 from cphysfno_opensees.loader import import_opensees
 
 from cphysfno_core import ConfigError, GroundMotions, LinearSystem

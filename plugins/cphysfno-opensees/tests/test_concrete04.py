@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cphysfno_opensees.bridge_design import BridgeDesign
+from cphysfno_opensees.bridge.design import BridgeDesign
 from cphysfno_opensees.fibre import concrete04
 from cphysfno_opensees.fibre.concrete04 import N_STATE, initial_state, parameters, trial
 from cphysfno_opensees.loader import import_opensees

@@ -1,6 +1,6 @@
 """The bridge passes the conformance checks every structure must pass."""
 
-from cphysfno_opensees.bridge import AuburnRavineBridge
+from cphysfno_opensees.bridge.structure import AuburnRavineBridge
 
 from cphysfno_core.testing import check_structure
 

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core import pipeline
-from cphysfno_core.generation import grouped_order
+from cphysfno_core.app import pipeline
+from cphysfno_core.data.generation import grouped_order
 
 EXAMPLES = Path(__file__).parents[3] / "examples"
 PIERS = [f"pier-{i}" for i in range(1, 11)]

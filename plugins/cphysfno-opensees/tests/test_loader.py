@@ -8,7 +8,7 @@ import sys
 import pytest
 from cphysfno_opensees import loader
 
-from cphysfno_core.errors import PluginError
+from cphysfno_core import PluginError
 
 
 def test_import_opensees_runs_an_analysis_in_a_fresh_interpreter():

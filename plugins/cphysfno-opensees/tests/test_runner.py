@@ -162,7 +162,7 @@ def test_a_daemonic_process_is_told_how_to_configure_its_workers(analyses, recor
 
 def test_records_run_inside_dask_workers_of_the_local_cluster(analyses, records):
     from cphysfno_core.config import DataConfig
-    from cphysfno_core.executors import _dask_client
+    from cphysfno_core.data.executors import _dask_client
 
     settings = DataConfig(executor="dask", workers=1)
     with _dask_client(settings) as client:

@@ -8,15 +8,15 @@ import dataclasses
 
 import numpy as np
 import pytest
-from cphysfno_opensees.sac9_analysis import (
+from cphysfno_opensees.sac9.analysis import (
     INTERIOR_DRIFT_LIMIT,
     SolverConfig,
     analyse_record,
     peak_drift_ratio,
     transient_response,
 )
-from cphysfno_opensees.sac9_model import FrameConfig
-from cphysfno_opensees.sac9_phases import elastic_start
+from cphysfno_opensees.sac9.model import FrameConfig
+from cphysfno_opensees.sac9.phases import elastic_start
 from cphysfno_opensees.transient import Abandoned
 from sac9_pulses import DAMPING, DT, pulse, relative
 

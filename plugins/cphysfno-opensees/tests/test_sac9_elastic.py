@@ -7,22 +7,23 @@ import dataclasses
 
 import numpy as np
 import pytest
-from cphysfno_opensees import sac9_analysis, sac9_phases
 from cphysfno_opensees.loader import import_opensees
-from cphysfno_opensees.sac9_analysis import (
+from cphysfno_opensees.sac9 import analysis as sac9_analysis
+from cphysfno_opensees.sac9 import phases as sac9_phases
+from cphysfno_opensees.sac9.analysis import (
     SolverConfig,
     analyse_record,
     configure_solver,
 )
-from cphysfno_opensees.sac9_elastic import (
+from cphysfno_opensees.sac9.elastic import (
     elastic_centre,
     elastic_frame,
     elastic_response,
     first_step_beyond,
 )
-from cphysfno_opensees.sac9_model import FrameConfig, build_frame
-from cphysfno_opensees.sac9_phases import ELASTIC_SHARE, elastic_start
-from cphysfno_opensees.sac9_sections import HARDENING_RATIO, STEEL_MODULUS
+from cphysfno_opensees.sac9.model import FrameConfig, build_frame
+from cphysfno_opensees.sac9.phases import ELASTIC_SHARE, elastic_start
+from cphysfno_opensees.sac9.sections import HARDENING_RATIO, STEEL_MODULUS
 from sac9_pulses import DAMPING, DT, pulse, relative
 
 MODEL = FrameConfig()

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from cphysfno_opensees.loader import import_opensees
 from cphysfno_opensees.pushover import PushoverCurve, PushoverError
-from cphysfno_opensees.sac9_frame import Sac9Frame
-from cphysfno_opensees.sac9_model import build_frame
+from cphysfno_opensees.sac9.model import build_frame
+from cphysfno_opensees.sac9.structure import Sac9Frame
 
 import cphysfno_core as cp
 from cphysfno_core.testing import check_structure, small_motions

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from cphysfno_opensees.loader import import_opensees
-from cphysfno_opensees.sac9_frame import Sac9Frame
-from cphysfno_opensees.sac9_model import FrameConfig, build_frame, eigenvalues
-from cphysfno_opensees.sac9_sections import SHAPES, column_shape, level_heights
+from cphysfno_opensees.sac9.model import FrameConfig, build_frame, eigenvalues
+from cphysfno_opensees.sac9.sections import SHAPES, column_shape, level_heights
+from cphysfno_opensees.sac9.structure import Sac9Frame
 
 from cphysfno_core import ConfigError
 

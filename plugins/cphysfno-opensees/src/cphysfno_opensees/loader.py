@@ -14,7 +14,7 @@ import importlib.util
 import os
 from types import ModuleType
 
-from cphysfno_core.errors import PluginError
+from cphysfno_core import PluginError
 
 BUNDLED_LIBRARIES = (
     "libquadmath.so.0",

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import cphysfno_core
 
-from .bridge import AuburnRavineBridge
-from .sac9_frame import Sac9Frame
+from .bridge.structure import AuburnRavineBridge
+from .sac9.structure import Sac9Frame
 
 
 @cphysfno_core.hookimpl

@@ -10,8 +10,15 @@ import numpy as np
 import scipy.linalg
 from pydantic import Field
 
-from cphysfno_core import ConfigError, GroundMotions, InputError, Params, Responses, Structure
-from cphysfno_core.signals import check_time_step
+from cphysfno_core import (
+    ConfigError,
+    GroundMotions,
+    InputError,
+    Params,
+    Responses,
+    Structure,
+    check_time_step,
+)
 
 from .runner import run_records
 

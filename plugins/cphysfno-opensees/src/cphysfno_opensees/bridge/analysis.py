@@ -6,11 +6,12 @@ import os
 
 import numpy as np
 
-from .bridge_design import BridgeDesign
-from .bridge_linear import TRANSVERSE, Rayleigh
-from .bridge_model import Columns, ElasticSection, Numerics, build
-from .loader import import_opensees
-from .transient import integrate
+from ..loader import import_opensees
+from ..transient import integrate
+from .design import BridgeDesign
+from .linear import Rayleigh
+from .model import TRANSVERSE, Columns, ElasticSection, build
+from .numerics import Numerics
 
 EXCITATION_SERIES, EXCITATION_PATTERN = 2, 2
 
@@ -32,7 +33,7 @@ def analyse(
 
     Args:
         design, numerics, damping, columns, elastic: the model (see
-            :func:`cphysfno_opensees.bridge_model.build`) and its Rayleigh damping
+            :func:`cphysfno_opensees.bridge.model.build`) and its Rayleigh damping
             (``alphaM`` and ``betaKinit`` in OpenSees).
         acceleration: ``[T]`` ground acceleration, m/s^2.
         dt: its time step, s.

@@ -2,10 +2,11 @@
 
 Everything linear (girder, bent caps, abutment springs, masses, the initial stiffness of
 the Rayleigh damping, gravity loads) is read from the OpenSees model itself; the ten
-force-based fibre columns are evaluated by :mod:`.fibre.rc_column` (OpenSees' element,
-section and materials, checked against them in the tests) and the Newmark-Newton
-iterations run on the column tops alone (:mod:`.fibre.dynamics`). The result is OpenSees'
-``forceBeamColumn`` bridge of :mod:`.bridge_model` to the Newton tolerance.
+force-based fibre columns are evaluated by :mod:`cphysfno_opensees.fibre` (OpenSees'
+element, section and materials, checked against them in the tests) and the
+Newmark-Newton iterations run on the column tops alone
+(:mod:`cphysfno_opensees.fibre.dynamics`). The result is OpenSees' ``forceBeamColumn``
+bridge of :mod:`.model` to the Newton tolerance.
 """
 
 from __future__ import annotations
@@ -18,33 +19,28 @@ from typing import Any
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from .bridge_analysis import analyse as opensees_analysis
-from .bridge_design import GRAVITY, BridgeDesign
-from .bridge_linear import TRANSVERSE, Rayleigh, _tangent
-from .bridge_model import (
-    Numerics,
-    build,
-    material_arguments,
-    section_fibres,
-    shear_and_torsion_stiffness,
-)
-from .fibre import concrete04, steel02
-from .fibre.dynamics import SPLITS, Partition, newmark, static_steps
-from .fibre.rc_column import (
+from ..fibre import concrete04, steel02
+from ..fibre.columns import Columns, ColumnState
+from ..fibre.dynamics import SPLITS, Partition, newmark, static_steps
+from ..fibre.section import FibreGroup
+from ..fibre.state_determination import (
     COMPATIBILITY_TOLERANCE,
     ELEMENT_ITERATIONS,
     ELEMENT_TOLERANCE,
-    Columns,
-    ColumnState,
-    lobatto,
 )
-from .fibre.section import FibreGroup
-from .loader import import_opensees
-from .transient import AnalysisFailed
+from ..loader import import_opensees
+from ..quadrature import lobatto
+from ..transient import AnalysisFailed
+from .analysis import analyse as opensees_analysis
+from .column import material_arguments, section_fibres, shear_and_torsion_stiffness
+from .design import GRAVITY, BridgeDesign
+from .linear import Rayleigh
+from .model import TRANSVERSE, build, tangent_stiffness
+from .numerics import Numerics
 
 ITERATIVE = (ELEMENT_ITERATIONS, ELEMENT_TOLERANCE, 0.0)
 """OpenSees' iterations: every column converged at every Newton iteration, the last
-correction applied (see :func:`.fibre.dynamics.solve_increment`)."""
+correction applied (see :func:`cphysfno_opensees.fibre.dynamics.solve_increment`)."""
 NON_ITERATIVE = (1, COMPATIBILITY_TOLERANCE, 0.01)
 """Columns that converge along with the structure, and no column evaluation after a
 correction below a hundredth of the tolerance. On the bridge's records the answer is
@@ -56,7 +52,7 @@ LOGGER = logging.getLogger(__name__)
 RECOVERY = "Newton, then with iterative elements, at dt and at dt/2, dt/4, dt/8"
 """What a step that fails has been tried with, in words."""
 GRAVITY_STEPS = 10
-"""Load steps of the gravity analysis (as in :func:`.bridge_model.apply_gravity`)."""
+"""Load steps of the gravity analysis (as in :func:`.model.apply_gravity`)."""
 GRAVITY_TOLERANCE = 1e-12
 """Its Newton tolerance on the displacement increment, m."""
 
@@ -119,7 +115,7 @@ class CompiledBridge:
 
 
 def fibre_columns(design: BridgeDesign, numerics: Numerics) -> Columns:
-    """The ten columns of :func:`.bridge_model.build`: the same fibres, materials,
+    """The ten columns of :func:`.model.build`: the same fibres, materials,
     integration and orientation."""
     core, cover, steel = material_arguments(design)
     core_p = concrete04.parameters(*core)
@@ -157,7 +153,7 @@ def compile_bridge(ops: Any, design: BridgeDesign, numerics: Numerics) -> Compil
     The domain is wiped before and after.
     """
     where = build(ops, design, numerics, "fibre", gravity=False)
-    initial = _tangent(ops)
+    initial = tangent_stiffness(ops)
     n = initial.shape[0]
     mass = np.zeros(n)
     gravity = np.zeros(n)
@@ -178,7 +174,7 @@ def compile_bridge(ops: Any, design: BridgeDesign, numerics: Numerics) -> Compil
         for s in (0, 1):
             ops.remove("element", 4000 + 10 * b + s)
     ops.wipeAnalysis()
-    linear = _tangent(ops)
+    linear = tangent_stiffness(ops)
     ops.wipe()
     return CompiledBridge(
         mass=mass,
@@ -217,7 +213,7 @@ def analyse_compiled(
     dt: float,
 ) -> np.ndarray:
     """Transverse column-top displacements of the bridge under one ground motion: the
-    result of :func:`.bridge_analysis.analyse` with fibre columns, computed here.
+    result of :func:`.analysis.analyse` with fibre columns, computed here.
 
     Args:
         bridge: from :func:`compile_bridge`.
@@ -287,7 +283,7 @@ def analyse(
     """:func:`analyse_compiled` for a worker process: reads the bridge from OpenSees on
     first use, and keeps BLAS to one thread (its threads would spin between the small
     solves of every step). A record the compiled engine cannot finish is handed to
-    OpenSees (:func:`.bridge_analysis.analyse`), whose ladder of solution algorithms
+    OpenSees (:func:`.analysis.analyse`), whose ladder of solution algorithms
     sometimes gets through where Newton does not (a few records in a hundred on the 0.1 s
     grid of ``relaxed``); if OpenSees fails too, its failure is raised."""
     bridge = _compiled(design, numerics)

@@ -20,11 +20,9 @@ import scipy.linalg
 
 from cphysfno_core import LinearSystem
 
-from .bridge_design import BridgeDesign
-from .bridge_model import ElasticSection, Numerics, apply_gravity, build
-
-TRANSVERSE = 2
-"""Global direction of the excitation and of the outputs (Y, across the girder)."""
+from .design import BridgeDesign
+from .model import TRANSVERSE, ElasticSection, apply_gravity, build, tangent_stiffness
+from .numerics import Numerics
 
 
 @dataclass(frozen=True)
@@ -84,10 +82,10 @@ def assemble(
             not be exact.
     """
     where = build(ops, design, numerics, "elastic", elastic, gravity=False)
-    initial = _tangent(ops)
+    initial = tangent_stiffness(ops)
     ops.wipeAnalysis()
     apply_gravity(ops, where)
-    loaded = _tangent(ops)
+    loaded = tangent_stiffness(ops)
     equations, dofs, masses = [], [], []
     for node in (*where.girder_nodes, *where.column_tops):
         numbers = ops.nodeDOFs(node)
@@ -114,24 +112,6 @@ def assemble(
         output_map,
         tuple(dofs),
     )
-
-
-def _tangent(ops: Any) -> np.ndarray:
-    """``[n_eq, n_eq]`` tangent stiffness of the current state (N/m, N, N m), symmetrised;
-    the static analysis that formed it stays defined, its equations numbered in order."""
-    ops.constraints("Plain")
-    ops.numberer("Plain")
-    ops.system("FullGeneral")
-    ops.test("NormDispIncr", 1e-12, 10)
-    ops.algorithm("Newton")
-    ops.integrator("LoadControl", 0.0)
-    ops.analysis("Static")
-    if ops.analyze(1) != 0:
-        raise RuntimeError("could not form the tangent of the elastic bridge")
-    values = np.asarray(ops.printA("-ret"), dtype=np.float64)
-    n = int(round(math.sqrt(values.size)))
-    matrix = values.reshape(n, n)
-    return 0.5 * (matrix + matrix.T)
 
 
 def _condense(matrix: np.ndarray, keep: np.ndarray, others: np.ndarray) -> np.ndarray:

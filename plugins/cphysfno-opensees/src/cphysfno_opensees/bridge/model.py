@@ -8,57 +8,26 @@ s``'s top.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 
-from .bridge_design import GRAVITY, BridgeDesign
+from .column import material_arguments, section_fibres, shear_and_torsion_stiffness
+from .design import GRAVITY, BridgeDesign
+from .numerics import Numerics
 
 Columns = Literal["fibre", "elastic"]
+
+TRANSVERSE = 2
+"""Global direction of the excitation and of the outputs (Y, across the girder)."""
 
 DECK_TRANSFORM, CAP_TRANSFORM, COLUMN_TRANSFORM = 1, 2, 3
 CORE, COVER, STEEL, SHEAR, FIBRE_SECTION, COLUMN_SECTION = range(1, 7)
 COLUMN_INTEGRATION = 1
 ELASTIC_SECTION = 7
 ABUTMENT_LONGITUDINAL, ABUTMENT_TRANSVERSE = 11, 12
-
-
-@dataclass(frozen=True)
-class Numerics:
-    """How the columns are discretised and the equations solved; none of it is physics.
-
-    Attributes:
-        sectors: fibres around the circumference of the column section.
-        core_rings: Gauss fibre rings across the confined core.
-        cover_rings: Gauss fibre rings across the cover (2 or more integrate the elastic
-            stiffness exactly).
-        integration_points: Gauss-Lobatto points of each force-based column.
-        substeps: Newmark steps per sample interval of the record (the record is linear
-            between its samples).
-        tolerance: Newton convergence on the norm of the displacement increment, m.
-        max_iterations: Newton iterations per attempt.
-        system: OpenSees linear system of equations.
-        numberer: OpenSees DOF numberer.
-        algorithm: OpenSees solution algorithm (``ops.algorithm`` arguments).
-        iterative_elements: in the compiled engine, every column's state determination
-            iterates to convergence at every Newton iteration, as OpenSees'
-            ``forceBeamColumn`` does (True: OpenSees' iterates exactly), or takes one
-            iteration per Newton iteration and converges along with the structure
-            (False, Neuenhofer and Filippou's non-iterative form: 1.2 times faster).
-    """
-
-    sectors: int = 16
-    core_rings: int = 10
-    cover_rings: int = 3
-    integration_points: int = 5
-    substeps: int = 2
-    tolerance: float = 1e-6
-    max_iterations: int = 25
-    system: str = "BandGeneral"
-    numberer: str = "RCM"
-    algorithm: tuple[str, ...] = ("Newton",)
-    iterative_elements: bool = False
 
 
 @dataclass(frozen=True)
@@ -184,64 +153,11 @@ def _abutments(ops: Any, design: BridgeDesign, where: Layout) -> None:
         )  # fmt: skip
 
 
-def shear_and_torsion_stiffness(design: BridgeDesign) -> tuple[float, float]:
-    """The elastic shear stiffness GA (N, each of Vy and Vz) and torsional stiffness GJ
-    (N m^2) of a column."""
-    shear_modulus = design.concrete_modulus / 2.4
-    polar = np.pi * design.column_diameter**4 / 32.0
-    return (
-        shear_modulus * design.shear_area_factor * design.gross_area,
-        design.column_torsion_factor * shear_modulus * polar,
-    )
-
-
 def _shear_and_torsion(ops: Any, design: BridgeDesign) -> tuple[float, float]:
     """The elastic shear material (tag) and the torsional stiffness GJ (N m^2) of a column."""
     shear, torsion = shear_and_torsion_stiffness(design)
     ops.uniaxialMaterial("Elastic", SHEAR, shear)
     return SHEAR, torsion
-
-
-def section_fibres(
-    design: BridgeDesign, numerics: Numerics
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(core, cover, bars)``: ``[n, 3]`` fibres ``(y, z, area)`` (m, m, m^2) of the column
-    section, each group of one material."""
-    core_radius = design.core_diameter / 2.0
-    outer = design.column_diameter / 2.0
-    core = polar_gauss(0.0, core_radius, numerics.core_rings, numerics.sectors)
-    cover = polar_gauss(core_radius, outer, numerics.cover_rings, numerics.sectors)
-    angles = 2.0 * np.pi * np.arange(design.longitudinal_bars) / design.longitudinal_bars
-    bars = np.stack(
-        [
-            design.bar_radius * np.cos(angles),
-            design.bar_radius * np.sin(angles),
-            np.full(angles.size, design.bar_area),
-        ],
-        axis=1,
-    )
-    return np.array(core), np.array(cover), bars
-
-
-def material_arguments(
-    design: BridgeDesign,
-) -> tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
-    """OpenSees' arguments of the core and cover ``Concrete04`` (``fc epsc epscu Ec fct
-    et``, compression negative) and of the bars' ``Steel02`` (``Fy E0 b R0 cR1 cR2``), SI."""
-    core = design.confined_concrete()
-    tension = design.concrete_tensile_strength
-    cracking = tension / design.concrete_modulus
-    hardening = (design.steel_ultimate - design.steel_yield) / (
-        design.steel_modulus
-        * (design.steel_ultimate_strain - design.steel_yield / design.steel_modulus)
-    )
-    return (
-        (-core.strength, -core.peak_strain, -core.ultimate_strain, design.concrete_modulus,
-         tension, cracking),
-        (-design.concrete_strength, -design.concrete_peak_strain, -design.cover_spalling_strain,
-         design.concrete_modulus, tension, cracking),
-        (design.steel_yield, design.steel_modulus, hardening, 20.0, 0.925, 0.15),
-    )  # fmt: skip
 
 
 def _fibre_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> None:
@@ -257,30 +173,6 @@ def _fibre_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> None:
         for y, z, area in fibres:
             ops.fiber(float(y), float(z), float(area), material)
     ops.section("Aggregator", COLUMN_SECTION, shear, "Vy", shear, "Vz", "-section", FIBRE_SECTION)
-
-
-def polar_gauss(
-    inner: float, outer: float, rings: int, sectors: int
-) -> list[tuple[float, float, float]]:
-    """Fibres ``(y, z, area)`` (m, m, m^2) of the annulus ``inner <= r <= outer``.
-
-    Gauss-Legendre points in the radius (weight ``r dr``) times ``sectors`` equal angles
-    (the midpoint rule, exact for trigonometric polynomials of degree below ``sectors``):
-    the areas sum to the annulus's, and the second moments are exact from 2 rings and 3
-    sectors up, so the elastic stiffness does not depend on the mesh. Angles sit at the
-    middle of the sectors, symmetric about both axes when ``sectors`` is even.
-    """
-    nodes, weights = np.polynomial.legendre.leggauss(rings)
-    half = 0.5 * (outer - inner)
-    radii = inner + half * (nodes + 1.0)
-    widths = 2.0 * np.pi / sectors
-    fibres = []
-    for radius, weight in zip(radii, weights * half, strict=True):
-        for j in range(sectors):
-            angle = (j + 0.5) * widths
-            area = weight * radius * widths
-            fibres.append((float(radius * np.cos(angle)), float(radius * np.sin(angle)), area))
-    return fibres
 
 
 def _elastic_section(ops: Any, design: BridgeDesign, elastic: ElasticSection) -> None:
@@ -334,6 +226,24 @@ def apply_gravity(ops: Any, where: Layout) -> None:
         raise RuntimeError("the bridge does not carry its own weight: check the design")
     ops.loadConst("-time", 0.0)
     ops.wipeAnalysis()
+
+
+def tangent_stiffness(ops: Any) -> np.ndarray:
+    """``[n_eq, n_eq]`` tangent stiffness of the current state (N/m, N, N m), symmetrised;
+    the static analysis that formed it stays defined, its equations numbered in order."""
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", 1e-12, 10)
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 0.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("could not form the tangent of the elastic bridge")
+    values = np.asarray(ops.printA("-ret"), dtype=np.float64)
+    n = int(round(math.sqrt(values.size)))
+    matrix = values.reshape(n, n)
+    return 0.5 * (matrix + matrix.T)
 
 
 def elastic_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> ElasticSection:

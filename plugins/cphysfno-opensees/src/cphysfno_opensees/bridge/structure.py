@@ -12,13 +12,14 @@ from pydantic import Field
 
 from cphysfno_core import LinearSystem
 
-from .bridge_analysis import analyse
-from .bridge_compiled import analyse as compiled_analysis
-from .bridge_design import BridgeDesign
-from .bridge_linear import Matrices, Rayleigh, assemble
-from .bridge_model import ElasticSection, Numerics, elastic_section
-from .loader import import_opensees
-from .structure import OpenSeesParams, OpenSeesStructure
+from ..loader import import_opensees
+from ..structure import OpenSeesParams, OpenSeesStructure
+from .analysis import analyse
+from .compiled import analyse as compiled_analysis
+from .design import BridgeDesign
+from .linear import Matrices, Rayleigh, assemble
+from .model import ElasticSection, elastic_section
+from .numerics import Numerics
 
 Height = Annotated[float, Field(gt=2.0, lt=30.0, allow_inf_nan=False)]
 

@@ -18,13 +18,12 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from .rc_column import (
-    basic_deformation,
+from .columns import basic_deformation, top_response
+from .state_determination import (
     column_scratch,
     commit_columns,
     copy_element,
     revert_columns,
-    top_response,
     update_column,
 )
 

@@ -15,11 +15,12 @@ from typing import Any, Literal
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from .loader import import_opensees
-from .sac9_elastic import InteriorSections, elastic_frame, set_state
-from .sac9_model import FrameConfig, build_frame
-from .sac9_phases import TRY_EVERY, ElasticLeaps, ElasticStart, elastic_start
-from .transient import Abandoned, integrate
+from ..loader import import_opensees
+from ..transient import Abandoned, integrate
+from .elastic import elastic_frame, set_state
+from .interior import InteriorSections
+from .model import FrameConfig, build_frame
+from .phases import TRY_EVERY, ElasticLeaps, ElasticStart, elastic_start
 
 
 @dataclass(frozen=True)
@@ -47,7 +48,7 @@ class SolverConfig:
         algorithm: solution algorithm and its options (``ops.algorithm`` arguments).
         elastic_phases: fibre model: take the phases in which every fibre stays within
             ``ELASTIC_SHARE`` of its elastic range from the exact condensed linear model
-            (:mod:`~cphysfno_opensees.sac9_phases`) and run OpenSees only between them:
+            (:mod:`~cphysfno_opensees.sac9.phases`) and run OpenSees only between them:
             from rest to the first step at which a fibre nears yield (a record that never
             gets there needs no OpenSees analysis), and, every ``TRY_EVERY`` steps of
             OpenSees, across whatever elastic phase lies ahead.
@@ -98,7 +99,7 @@ def analyse_record(
     with Newmark's average acceleration rule at ``dt``, one step per sample, through
     :func:`cphysfno_opensees.transient.integrate` (which retries a step that does not
     converge). With ``solver.elastic_phases`` (fibre model), the elastic phases come from
-    the exact condensed linear model (:mod:`~cphysfno_opensees.sac9_phases`): the steps
+    the exact condensed linear model (:mod:`~cphysfno_opensees.sac9.phases`): the steps
     before the first fibre nears yield, and those after a yield in which no fibre does. A
     model with elastic interior sections that one of them would yield under (checked at
     every step at which a story drift ratio passes :data:`INTERIOR_DRIFT_LIMIT`) is

@@ -12,7 +12,7 @@ the OpenSees model under a unit load at each floor; :func:`newmark_floors` integ
 with the same Newmark rule as the OpenSees analysis, in milliseconds instead of seconds;
 :func:`first_step_beyond` finds the first step at which a fibre leaves a given share of its
 elastic range (:func:`fibre_centres`); :func:`set_state` hands the state back to OpenSees.
-:func:`cphysfno_opensees.sac9_analysis.analyse_record` runs OpenSees only between such
+:func:`cphysfno_opensees.sac9.analysis.analyse_record` runs OpenSees only between such
 phases, and not at all for a record that never yields.
 """
 
@@ -25,9 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from .loader import import_opensees
-from .sac9_model import Frame, FrameConfig, build_frame, fibre_layout
-from .sac9_sections import HARDENING_RATIO, N_STORIES, STEEL_MODULUS, WideFlange
+from ..loader import import_opensees
+from .interior import InteriorSections
+from .model import Frame, FrameConfig, build_frame
+from .sections import HARDENING_RATIO, N_STORIES, STEEL_MODULUS
 
 UNIT_LOAD = 1.0e5
 """Floor load of the static analyses, N (the model is linear; the size only keeps the
@@ -66,68 +67,6 @@ class ElasticFrame:
     stress_map: np.ndarray
     yield_stress: np.ndarray
     outermost: np.ndarray
-
-
-@dataclass(frozen=True)
-class InteriorSections:
-    """The elastic sections inside the members of a model with an elastic interior.
-
-    Attributes:
-        sections: ``(element, integration point)`` of each.
-        area, inertia: ``[m]`` their area (m^2) and second moment (m^4).
-        depth: ``[m]`` the distance of the outermost fibre of the fibre section they stand
-            for from its centroid, m.
-        yield_stress: ``[m]`` the yield stress of their steel, Pa.
-    """
-
-    sections: tuple[tuple[int, int], ...]
-    area: np.ndarray
-    inertia: np.ndarray
-    depth: np.ndarray
-    yield_stress: np.ndarray
-
-    @classmethod
-    def of(cls, frame: Frame, config: FrameConfig) -> InteriorSections:
-        """The interior sections of the model ``frame`` (built from ``config``); none
-        unless the fibre model has an elastic interior."""
-        members = sorted(frame.members.items())
-        if config.model != "fibre" or not config.elastic_interior:
-            members = []
-        interior = range(2, config.integration_points)
-        sections = [(element, point) for element, _ in members for point in interior]
-        per_member = [
-            (m.shape.area, m.shape.inertia, _outermost(m.shape, config), m.yield_stress)
-            for _, m in members
-        ]
-        columns = np.repeat(np.asarray(per_member, dtype=float).reshape(-1, 4), len(interior), 0)
-        return cls(tuple(sections), *columns.T)
-
-    def stresses(self, ops: Any) -> np.ndarray:
-        """``[2 m]`` the stresses now of the two outermost fibres of each section (of the
-        fibre section it stands for), Pa."""
-        forces = np.array(
-            [
-                ops.eleResponse(element, "section", point, "force")
-                for element, point in self.sections
-            ]
-        ).reshape(-1, 2)
-        return self.fibre_stresses(forces)
-
-    def fibre_stresses(self, forces: np.ndarray) -> np.ndarray:
-        """``[2 m]`` outermost-fibre stresses (Pa) of axial forces and moments ``[m, 2]``
-        (N, N m): ``N / A -+ M y / I`` for each section."""
-        axial = forces[:, 0] / self.area
-        bending = forces[:, 1] * self.depth / self.inertia
-        return np.stack([axial - bending, axial + bending], axis=1).ravel()
-
-    def past_yield(self, ops: Any, share: float) -> bool:
-        """Whether an outermost fibre's stress is at ``share`` of its yield stress now."""
-        return bool(np.any(np.abs(self.stresses(ops)) >= share * np.repeat(self.yield_stress, 2)))
-
-
-@functools.lru_cache(maxsize=256)
-def _outermost(shape: WideFlange, config: FrameConfig) -> float:
-    return max(abs(y) for y, _ in fibre_layout(shape, config))
 
 
 @functools.lru_cache(maxsize=4)

@@ -16,7 +16,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .sac9_sections import (
+from ..quadrature import lobatto
+from .sections import (
     BAY_WIDTH,
     BEAM_YIELD_STRESS,
     BEAMS,
@@ -306,7 +307,9 @@ class _MemberBuilder:
             n = config.integration_points
             locations, weights = lobatto(n)
             sections = [section] + [elastic] * (n - 2) + [section]
-            ops.beamIntegration("UserDefined", integration, n, *sections, *locations, *weights)
+            ops.beamIntegration(
+                "UserDefined", integration, n, *sections, *locations.tolist(), *weights.tolist()
+            )
             return integration
         hinge = self._hinge_section(shape, yield_stress)
         interior = self.tags.next("section")
@@ -367,12 +370,3 @@ def eigenvalues(ops: Any, n: int) -> np.ndarray:
         raise
     ops.wipeAnalysis()
     return values
-
-
-def lobatto(n: int) -> tuple[list[float], list[float]]:
-    """Gauss-Lobatto points and weights on [0, 1] (``n >= 2``)."""
-    interior = np.polynomial.legendre.Legendre.basis(n - 1).deriv().roots()
-    points = np.concatenate([[-1.0], np.sort(interior.real), [1.0]])
-    values = np.polynomial.legendre.Legendre.basis(n - 1)(points)
-    weights = 2.0 / (n * (n - 1) * values**2)
-    return list((points + 1.0) / 2.0), list(weights / 2.0)

@@ -1,9 +1,9 @@
 """The phases of an analysis of the SAC frame in which no steel yields, taken from the
-exact condensed model of :mod:`~cphysfno_opensees.sac9_elastic` instead of OpenSees.
+exact condensed model of :mod:`~cphysfno_opensees.sac9.elastic` instead of OpenSees.
 
 :func:`elastic_start` gives the response from rest up to the step before a fibre first
 nears yield; :class:`ElasticLeaps` carries a running OpenSees analysis across the elastic
-phases after a yield. :func:`~cphysfno_opensees.sac9_analysis.analyse_record` uses both.
+phases after a yield. :func:`~cphysfno_opensees.sac9.analysis.analyse_record` uses both.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .sac9_elastic import (
+from .elastic import (
     ElasticFrame,
     FloorState,
     elastic_frame,
@@ -24,10 +24,10 @@ from .sac9_elastic import (
     newmark_floors,
     set_state,
 )
-from .sac9_model import FrameConfig
+from .model import FrameConfig
 
 if TYPE_CHECKING:
-    from .sac9_analysis import Rayleigh
+    from .analysis import Rayleigh
 
 ELASTIC_SHARE = 0.99
 """Share of its elastic range up to which a fibre's stress is taken from the condensed

@@ -13,12 +13,12 @@ from pydantic import Field
 
 from cphysfno_core import ConfigError, LinearSystem
 
-from .loader import import_opensees
-from .pushover import PushoverCurve, plot_pushover, run_pushover, shear_building
-from .sac9_analysis import Rayleigh, SolverConfig, analyse_record
-from .sac9_model import FrameConfig, build_frame, eigenvalues
-from .sac9_sections import N_STORIES
-from .structure import OpenSeesParams, OpenSeesStructure
+from ..loader import import_opensees
+from ..pushover import PushoverCurve, plot_pushover, run_pushover, shear_building
+from ..structure import OpenSeesParams, OpenSeesStructure
+from .analysis import Rayleigh, SolverConfig, analyse_record
+from .model import FrameConfig, build_frame, eigenvalues
+from .sections import N_STORIES
 
 __all__ = ["Sac9Frame", "Sac9FrameParams", "plot_pushover"]
 
@@ -127,7 +127,7 @@ class Sac9Frame(OpenSeesStructure):
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
         """``analyse(a_g [T] m/s^2, dt s) -> [T, 9]`` floor displacements (m): the model,
         the solver settings and the Rayleigh coefficients bound to
-        :func:`~cphysfno_opensees.sac9_analysis.analyse_record`."""
+        :func:`~cphysfno_opensees.sac9.analysis.analyse_record`."""
         return functools.partial(
             analyse_record, self.frame_config, self.solver_config, self.rayleigh()
         )
