@@ -24,7 +24,7 @@ def test_compose_mixes_names_pairs_and_instances(toy_data):
         refiner="toy-refiner",
     )
     assert model.label == "refined-c-physfno-toy-linear" or model.label.startswith("refined-")
-    assert model.preprocessor.structure_ is not None  # fitted at compose time
+    assert not hasattr(model.preprocessor, "structure_")  # stored, fitted by fit()
 
 
 def test_missing_capability_fails_at_compose_naming_both(toy_data):
@@ -55,6 +55,7 @@ def test_fit_learns_and_save_load_round_trips(toy_data, tmp_path):
     with pytest.raises(cp.NotFittedError):
         model.predict(gm[:2])
     model.fit(gm[:16], u[:16], validation=(gm[16:20], u[16:20]), epochs=30, progress=None)
+    assert hasattr(model.preprocessor, "structure_")
     history = model.history_
     assert len(history.train_loss) == 30
     assert history.train_loss[-1] < 0.6 * history.train_loss[0]

@@ -186,9 +186,10 @@ class NeedsLinearSystem(cp.PhysicsPreprocessor):
     """A preprocessor that needs a capability the toy structure lacks."""
 
     name = "needs-linear-system"
+    requires = frozenset({"linear_system"})
 
     def fit(self, structure):
-        structure.require("linear_system", f"preprocessor '{self.name}'")
+        self.check(structure)
         return self
 
     def transform(self, motions):

@@ -219,13 +219,26 @@ class GroundMotionSource(Component, ABC):
 
 
 class PhysicsPreprocessor(Component, ABC):
-    """The simplified physics operator H_p: ground motion -> intermediate response z."""
+    """The simplified physics operator H_p: ground motion -> intermediate response z.
+
+    Attributes:
+        requires: the structure capabilities :meth:`fit` uses, declared once per class;
+            :meth:`check` tests a structure for them (a composite model does when it is
+            built, before any simulation or training).
+    """
 
     kind = "preprocessor"
+    requires: ClassVar[frozenset[str]] = frozenset()
+
+    def check(self, structure: Structure) -> None:
+        """Raise :class:`CapabilityError` naming both parties unless ``structure`` provides
+        every capability in :attr:`requires`."""
+        for capability in sorted(self.requires):
+            structure.require(capability, f"preprocessor '{self.name}'")
 
     @abstractmethod
     def fit(self, structure: Structure) -> PhysicsPreprocessor:
-        """Build the simplified model from ``structure``; raise CapabilityError if it cannot."""
+        """Build the simplified model from ``structure`` (after :meth:`check`)."""
 
     @abstractmethod
     def transform(self, motions: GroundMotions) -> np.ndarray:

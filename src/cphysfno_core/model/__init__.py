@@ -1,5 +1,6 @@
 """The composite model: composition of the parts, training, prediction and persistence."""
 
-from .composite import CompositeModel, Prediction, compose, model_label
+from .assembly import compose
+from .composite import CompositeModel, Prediction, model_label
 
 __all__ = ["CompositeModel", "Prediction", "compose", "model_label"]

@@ -1,30 +1,25 @@
 """The composite model: physics preprocessor H_p, normalisers, neural operator G_θ and an
-optional refiner, built from parts by name or instance, saved without pickled code."""
+optional refiner. :mod:`.assembly` builds one from parts, :mod:`.persistence` saves and
+loads it."""
 
 from __future__ import annotations
 
 import copy
-import dataclasses
 import itertools
-import json
-import pickle
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 import torch
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from ..api.interfaces import (
     NeuralOperator,
     PhysicsPreprocessor,
     Refiner,
     Structure,
-    format_validation_error,
-    validate_params,
 )
 from ..api.registry import get_registry
 from ..config.experiment import ComponentSpec, FormulationConfig, TrainingConfig
@@ -32,12 +27,13 @@ from ..config.precision import Precision, operator_precision
 from ..signals import GroundMotions, TimeGrid
 from ..signals.errors import (
     ConfigError,
-    DatasetError,
     ExtrapolationWarning,
     InputError,
     NotFittedError,
 )
 from ..signals.intensity import STANDARD_GRAVITY, peak_ground_acceleration
+from .parts import PartLike, resolve
+from .persistence import load_model, save_model
 from .training import (
     EpochReport,
     Normalizer,
@@ -47,54 +43,17 @@ from .training import (
     train_operator,
 )
 
-FORMAT = "cphysfno-composite"
-FORMAT_VERSION = 1
 PREDICT_CHUNK = 8
 """Records per operator call in prediction: the activations of a chunk (a few MiB per
 record at the paper's sizes) stay small and are reused from chunk to chunk."""
 
-SAVED_ARRAYS = ("input_mean", "input_std", "output_mean", "output_std", "validation_rmse")
 EXTRAPOLATION_FACTOR = 3.0
 """Records whose PGA lies more than this factor below the weakest or above the strongest
 training record are flagged as extrapolations."""
 
 
-class SavedGrid(BaseModel):
-    """The training records' time grid in ``model.json``."""
-
-    model_config = ConfigDict(extra="forbid")
-
-    dt: float = Field(gt=0)
-    n_steps: int = Field(ge=2)
-
-
-class SavedModel(BaseModel):
-    """Schema of ``model.json``: the parts by registry name and parameters."""
-
-    model_config = ConfigDict(extra="forbid")
-
-    format: Literal["cphysfno-composite"]
-    format_version: Literal[1]
-    label: str
-    structure: dict[str, Any] | None
-    preprocessor: dict[str, Any] | None
-    refiner: dict[str, Any] | None
-    operator: dict[str, Any]
-    training: dict[str, Any]
-    formulation: dict[str, Any] = Field(default_factory=dict)
-    history: dict[str, Any] = Field(default_factory=dict)
-    grid: SavedGrid | None = None
-    training_pga: tuple[float, float] | None = None
-
-    @field_validator("structure", "preprocessor", "refiner", "operator")
-    @classmethod
-    def _named(cls, spec: dict[str, Any] | None) -> dict[str, Any] | None:
-        if spec is not None and not isinstance(spec.get("name"), str):
-            raise ValueError("a part needs its registry name")
-        return spec
-
-
-PartLike = str | tuple[str, dict[str, Any]] | ComponentSpec | Any
+def _rows_of(array: np.ndarray | None, rows: slice) -> np.ndarray | None:
+    return None if array is None else array[rows]
 
 
 def model_label(
@@ -109,34 +68,6 @@ def model_label(
     label = operator if preprocessor is None else f"c-phys{operator}-{preprocessor}"
     label += "-residual" if residual else ""
     return f"refined-{label}" if refined else label
-
-
-def _as_spec(part: str | tuple | ComponentSpec) -> ComponentSpec:
-    if isinstance(part, ComponentSpec):
-        return part
-    if isinstance(part, str):
-        return ComponentSpec.of(part)
-    if isinstance(part, tuple) and len(part) == 2 and isinstance(part[0], str):
-        return ComponentSpec.of(part[0], dict(part[1]))
-    raise ConfigError(f"a part is a name, a (name, params) pair or an instance, got {part!r}")
-
-
-def _resolve(kind: str, part: PartLike | None) -> Any:
-    """An instance of ``kind`` from a name, ``(name, params)``, spec or an instance."""
-    if part is None or not isinstance(part, (str, tuple, ComponentSpec)):
-        return part
-    spec = _as_spec(part)
-    return get_registry().create(kind, spec.name, **spec.params)
-
-
-def _rows_of(array: np.ndarray | None, rows: slice) -> np.ndarray | None:
-    return None if array is None else array[rows]
-
-
-def _spec_of(component: Any) -> dict[str, Any] | None:
-    if component is None:
-        return None
-    return {"name": component.name, **component.get_params()}
 
 
 @dataclass
@@ -157,7 +88,9 @@ class CompositeModel:
     Without a preprocessor it is the plain neural-operator baseline on ``[a_g, t]``.
     Without a refiner, ``std`` is the operator's validation RMSE per DOF.
 
-    Build one with :func:`compose`; train with :meth:`fit`; :meth:`save` / :meth:`load`.
+    Construction stores the parts (and checks that the structure has the capabilities
+    the preprocessor requires); :meth:`fit` fits the preprocessor to the structure and
+    trains. Build one with :func:`~cphysfno_core.compose`; :meth:`save` / :meth:`load`.
     """
 
     def __init__(
@@ -193,7 +126,7 @@ class CompositeModel:
             self.operator_spec = operator
             self.operator_ = None
         if preprocessor is not None:
-            preprocessor.fit(structure)
+            preprocessor.check(structure)
 
     @property
     def label(self) -> str:
@@ -276,6 +209,7 @@ class CompositeModel:
             self.training = self.training.model_copy(update=overrides)
             TrainingConfig.model_validate(self.training.model_dump())
         if self.preprocessor is not None:
+            self.preprocessor.fit(self.structure)
             z = self.physics(motions) if z is None else z
             validation_z = self.physics(val_motions) if validation_z is None else validation_z
         x_train = self._inputs(motions, z)
@@ -333,7 +267,7 @@ class CompositeModel:
             raise ConfigError("a refiner works on the physics response z: the baseline has none")
         self._check_grid(motions)
         refined = copy.copy(self)
-        refined.refiner = _resolve("refiner", refiner)
+        refined.refiner = resolve("refiner", refiner)
         z = self.physics(motions) if z is None else z
         u_hat = self._run_operator(self._inputs(motions, z), z)
         rng = np.random.default_rng(self.training.seed if seed is None else seed)
@@ -502,141 +436,18 @@ class CompositeModel:
         stages = self.predict_stages(motions, precision=precision)
         return stages.mean, stages.std
 
-    # -- persistence -----------------------------------------------------------------
     def save(self, directory: str | Path) -> Path:
-        """Write ``model.json`` (parts by name and parameters), ``operator.pt`` (tensors
-        only) and ``arrays.npz`` (normalisers, refiner state) into ``directory``; for a
-        C-Phys model also what the structure shows of itself (e.g. the pushover behind its
-        equivalent linear system) into ``directory/structure``, for the reader only."""
+        """Write the trained model into ``directory`` (see
+        :func:`~cphysfno_core.model.persistence.save_model`)."""
         self._check_fitted()
-        directory = Path(directory)
-        directory.mkdir(parents=True, exist_ok=True)
-        description = {
-            "format": FORMAT,
-            "format_version": FORMAT_VERSION,
-            "label": self.label,
-            "structure": _spec_of(self.structure),
-            "preprocessor": _spec_of(self.preprocessor),
-            "refiner": _spec_of(self.refiner),
-            "operator": {
-                **self.operator_spec.to_dict(),
-                "in_channels": self.operator_.in_channels,
-                "out_channels": self.operator_.out_channels,
-            },
-            "training": self.training.model_dump(mode="json"),
-            "formulation": self.formulation.model_dump(mode="json"),
-            "history": self.history_.to_dict(),
-            "grid": None if self.grid is None else dataclasses.asdict(self.grid),
-            "training_pga": getattr(self, "training_pga_", None),
-        }
-        arrays = {
-            "input_mean": self.input_normalizer_.mean,
-            "input_std": self.input_normalizer_.std,
-            "output_mean": self.output_normalizer_.mean,
-            "output_std": self.output_normalizer_.std,
-            "validation_rmse": self.validation_rmse_,
-        }
-        if self.refiner is not None:
-            arrays.update({f"refiner.{k}": v for k, v in self.refiner.state_dict().items()})
-        torch.save(self.operator_.state_dict(), directory / "operator.pt")
-        np.savez(directory / "arrays.npz", **arrays)
-        (directory / "model.json").write_text(json.dumps(description, indent=2))
-        if self.preprocessor is not None:
-            self.structure.write_artifacts(directory / "structure")
-        return directory
+        return save_model(self, directory)
 
     @classmethod
     def load(cls, directory: str | Path) -> CompositeModel:
-        """Rebuild a saved model from its parts' names and parameters; no code is unpickled.
+        """Rebuild a saved model from its parts' names and parameters; no code is unpickled
+        (see :func:`~cphysfno_core.model.persistence.load_model`).
 
-        ``model.json`` is validated, the tensors are read with ``weights_only=True`` and the
-        arrays without pickle; a tampered, truncated or foreign file raises DatasetError.
+        Raises:
+            DatasetError: a tampered, truncated or foreign file.
         """
-        directory = Path(directory)
-        try:
-            saved = SavedModel.model_validate_json((directory / "model.json").read_text())
-        except OSError as error:
-            raise DatasetError(f"{directory} holds no readable model.json: {error}") from None
-        except ValidationError as error:
-            problems = format_validation_error(error)
-            raise DatasetError(
-                f"{directory}/model.json is not a {FORMAT} model: {problems}"
-            ) from None
-        registry = get_registry()
-
-        def build(kind: str, spec: dict[str, Any] | None) -> Any:
-            if spec is None:
-                return None
-            spec = dict(spec)
-            return registry.create(kind, spec.pop("name"), **spec)
-
-        operator = build("operator", saved.operator)
-        try:
-            state = torch.load(directory / "operator.pt", weights_only=True, map_location="cpu")
-            operator.load_state_dict(state)
-            with np.load(directory / "arrays.npz", allow_pickle=False) as stored:
-                arrays = {key: stored[key] for key in stored.files}
-            normalizers = [arrays[key] for key in SAVED_ARRAYS]
-        except Exception as error:
-            reason = str(error).splitlines()[0] if str(error) else ""
-            if isinstance(error, pickle.UnpicklingError):
-                reason = "not plain tensors: refused without running it"
-            raise DatasetError(
-                f"{directory}: cannot load the model's weights ({type(error).__name__}: {reason})"
-            ) from None
-        model = cls(
-            operator,
-            structure=build("structure", saved.structure),
-            preprocessor=build("preprocessor", saved.preprocessor),
-            refiner=build("refiner", saved.refiner),
-            training=TrainingConfig.model_validate(saved.training),
-            formulation=FormulationConfig.model_validate(saved.formulation),
-        )
-        input_mean, input_std, output_mean, output_std, validation_rmse = normalizers
-        model.input_normalizer_ = Normalizer(input_mean, input_std)
-        model.output_normalizer_ = Normalizer(output_mean, output_std)
-        model.validation_rmse_ = validation_rmse
-        model.history_ = TrainingHistory(**saved.history) if saved.history else TrainingHistory()
-        if saved.grid is not None:
-            model.grid_ = TimeGrid(saved.grid.dt, saved.grid.n_steps)
-        model.training_pga_ = saved.training_pga
-        if model.refiner is not None:
-            prefix = "refiner."
-            model.refiner.load_state_dict(
-                {k[len(prefix) :]: v for k, v in arrays.items() if k.startswith(prefix)}
-            )
-        operator.eval()
-        return model
-
-
-def compose(
-    *,
-    operator: PartLike,
-    structure: PartLike | None = None,
-    preprocessor: PartLike | None = None,
-    refiner: PartLike | None = None,
-    training: TrainingConfig | dict[str, Any] | None = None,
-    formulation: FormulationConfig | dict[str, Any] | None = None,
-) -> CompositeModel:
-    """Assemble an untrained :class:`CompositeModel` from parts given by name,
-    ``(name, params)``, or as instances, mixed freely.
-
-    The preprocessor is fitted to the structure here, so a missing capability fails now,
-    before any training. ``formulation`` (see :class:`FormulationConfig`) chooses a
-    residual target or an extra a_g input channel.
-    """
-    if isinstance(training, dict):
-        training = validate_params(TrainingConfig, training, "training")
-    if isinstance(formulation, dict):
-        formulation = validate_params(FormulationConfig, formulation, "formulation")
-    op = operator if isinstance(operator, NeuralOperator) else _as_spec(operator)
-    if isinstance(op, ComponentSpec):
-        validate_params(get_registry().get("operator", op.name).Params, op.params, "operator")
-    return CompositeModel(
-        op,
-        structure=_resolve("structure", structure),
-        preprocessor=_resolve("preprocessor", preprocessor),
-        refiner=_resolve("refiner", refiner),
-        training=training,
-        formulation=formulation,
-    )
+        return load_model(directory, cls)

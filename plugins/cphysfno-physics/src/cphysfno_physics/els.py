@@ -26,6 +26,7 @@ class EquivalentLinear(PhysicsPreprocessor):
     """
 
     name = "els"
+    requires = frozenset({"linear_system"})
 
     class Params(cphysfno_core.Params):
         stiffness_scale: float = Field(
@@ -34,7 +35,7 @@ class EquivalentLinear(PhysicsPreprocessor):
 
     def fit(self, structure: Structure) -> EquivalentLinear:
         """Take M, C and s K from ``structure`` (capability ``linear_system``)."""
-        structure.require("linear_system", f"preprocessor '{self.name}'")
+        self.check(structure)
         system = structure.linear_system()
         scale = self.params.stiffness_scale
         self.system_ = dataclasses.replace(system, stiffness=scale * system.stiffness)

@@ -45,6 +45,7 @@ class ModalReduction(PhysicsPreprocessor):
     """
 
     name = "modal"
+    requires = frozenset({"linear_system", "restoring_force"})
 
     class Params(cphysfno_core.Params):
         modes: int = Field(2, ge=1, description="number r of retained modes, 1 <= r <= n_dof")
@@ -57,9 +58,7 @@ class ModalReduction(PhysicsPreprocessor):
     def fit(self, structure: Structure) -> ModalReduction:
         """Compute the modes and reduced matrices (capabilities ``linear_system`` and
         ``restoring_force``)."""
-        who = f"preprocessor '{self.name}'"
-        structure.require("linear_system", who)
-        structure.require("restoring_force", who)
+        self.check(structure)
         system = structure.linear_system()
         r = self.params.modes
         if r > system.n_dof:

@@ -28,6 +28,7 @@ class RelaxedSolver(PhysicsPreprocessor):
     """
 
     name = "relaxed"
+    requires = frozenset({"coarse_simulation"})
 
     class Params(cphysfno_core.Params):
         factor: int = Field(30, ge=1, description="coarsening k of the time step: dt' = k dt")
@@ -39,7 +40,7 @@ class RelaxedSolver(PhysicsPreprocessor):
 
     def fit(self, structure: Structure) -> RelaxedSolver:
         """Keep ``structure`` (capability ``coarse_simulation``)."""
-        structure.require("coarse_simulation", f"preprocessor '{self.name}'")
+        self.check(structure)
         self.structure_ = structure
         return self
 
