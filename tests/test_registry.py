@@ -108,3 +108,15 @@ def test_real_entry_points_are_found():
     assert kinds, "no plugin found through the cphysfno entry-point group"
     assert all(e.distribution.startswith("cphysfno-") for e in registry.entries())
     assert not registry.broken, registry.broken
+
+
+def test_one_list_of_kinds_makes_the_hooks_and_the_config_sections():
+    from cphysfno_core.api import KINDS
+    from cphysfno_core.api.registry import plugin_manager
+
+    hooks = {name for name in vars(plugin_manager().hook) if name.startswith("cphysfno_")}
+    assert hooks == {kind.hook for kind in KINDS}
+    sections = {k.name for k in KINDS} & set(cp.ExperimentConfig.model_fields)
+    assert sections == {"structure", "ground_motion", "preprocessor", "operator", "refiner"}
+    with pytest.raises(cp.RegistryError, match="unknown component kind 'story'.*structure"):
+        cp.create("story", "x")

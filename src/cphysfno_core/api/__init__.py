@@ -3,7 +3,6 @@ specifications and the registry. Imports only :mod:`cphysfno_core.signals`."""
 
 from .hookspecs import hookimpl
 from .interfaces import (
-    KINDS,
     GroundMotionSource,
     NeuralOperator,
     Params,
@@ -12,10 +11,12 @@ from .interfaces import (
     RestoringForce,
     Structure,
 )
+from .kinds import KINDS, Kind
 from .registry import Registry, create, get_registry
 
 __all__ = [
     "KINDS",
+    "Kind",
     "GroundMotionSource",
     "NeuralOperator",
     "Params",

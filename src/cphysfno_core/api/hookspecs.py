@@ -2,47 +2,37 @@
 
 A plugin module (named by an entry point in the group ``cphysfno``) implements any of
 these hooks with ``@cphysfno_core.hookimpl``; each returns a list of component classes,
-each with a class attribute ``name`` unique within its kind.
+each with a class attribute ``name`` unique within its kind. There is one hook per kind of
+:data:`~cphysfno_core.api.kinds.KINDS`: ``cphysfno_structures``,
+``cphysfno_ground_motions``, ``cphysfno_preprocessors``, ``cphysfno_operators``,
+``cphysfno_refiners``.
 """
 
 from __future__ import annotations
 
 import pluggy
 
+from .kinds import KINDS, Kind
+
 PROJECT = "cphysfno"
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)
 
 
-@hookspec
-def cphysfno_structures() -> list[type]:
-    """Structure classes (subclasses of :class:`cphysfno_core.Structure`)."""
+class Specifications:
+    """The hook specifications, one per kind (what ``pluggy`` reads)."""
 
 
-@hookspec
-def cphysfno_ground_motions() -> list[type]:
-    """Ground-motion source classes (subclasses of :class:`cphysfno_core.GroundMotionSource`)."""
+def _specification(kind: Kind):
+    def specification() -> list[type]:
+        """Return the plugin's component classes of this kind."""
+
+    specification.__name__ = specification.__qualname__ = kind.hook
+    specification.__doc__ = (
+        f"{kind.what} (subclasses of :class:`cphysfno_core.{kind.base.__name__}`)."
+    )
+    return staticmethod(hookspec(specification))
 
 
-@hookspec
-def cphysfno_preprocessors() -> list[type]:
-    """Physics preprocessor classes (subclasses of :class:`cphysfno_core.PhysicsPreprocessor`)."""
-
-
-@hookspec
-def cphysfno_operators() -> list[type]:
-    """Neural operator classes (subclasses of :class:`cphysfno_core.NeuralOperator`)."""
-
-
-@hookspec
-def cphysfno_refiners() -> list[type]:
-    """Refiner classes (subclasses of :class:`cphysfno_core.Refiner`)."""
-
-
-HOOK_OF_KIND = {
-    "structure": "cphysfno_structures",
-    "ground_motion": "cphysfno_ground_motions",
-    "preprocessor": "cphysfno_preprocessors",
-    "operator": "cphysfno_operators",
-    "refiner": "cphysfno_refiners",
-}
+for _kind in KINDS:
+    setattr(Specifications, _kind.hook, _specification(_kind))

@@ -22,8 +22,6 @@ from ..signals import GroundMotions, LinearSystem, Responses
 from ..signals.errors import CapabilityError, ConfigError, InputError
 from ..signals.intensity import SpectrumBand
 
-KINDS = ("structure", "ground_motion", "preprocessor", "operator", "refiner")
-
 
 class Params(BaseModel):
     """Base of every component's parameter model: unknown fields are errors."""
@@ -347,12 +345,3 @@ class Refiner(Component, ABC):
     @abstractmethod
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`state_dict` returned."""
-
-
-COMPONENT_BASES: dict[str, type] = {
-    "structure": Structure,
-    "ground_motion": GroundMotionSource,
-    "preprocessor": PhysicsPreprocessor,
-    "operator": NeuralOperator,
-    "refiner": Refiner,
-}

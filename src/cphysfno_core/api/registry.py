@@ -23,7 +23,8 @@ import pluggy
 
 from ..signals.errors import RegistryError
 from . import hookspecs
-from .interfaces import COMPONENT_BASES, KINDS, Params
+from .interfaces import Params
+from .kinds import KIND_NAMES, kind_named
 
 ENTRY_POINT_GROUP = "cphysfno"
 
@@ -59,7 +60,7 @@ class BrokenPlugin:
 def plugin_manager() -> pluggy.PluginManager:
     """A plugin manager that knows the cphysfno hook specifications and no plugins."""
     pm = pluggy.PluginManager(hookspecs.PROJECT)
-    pm.add_hookspecs(hookspecs)
+    pm.add_hookspecs(hookspecs.Specifications)
     return pm
 
 
@@ -127,8 +128,8 @@ class Registry:
         self._entries: dict[tuple[str, str], ComponentEntry] = {}
         self._clashes: dict[tuple[str, str], list[ComponentEntry]] = {}
         self.broken: list[BrokenPlugin] = list(self._load_errors)
-        for kind in KINDS:
-            hook = getattr(self._pm.hook, hookspecs.HOOK_OF_KIND[kind])
+        for kind in KIND_NAMES:
+            hook = getattr(self._pm.hook, kind_named(kind).hook)
             for impl in hook.get_hookimpls():
                 dist = self._distribution.get(impl.plugin_name, "(registered in code)")
                 try:
@@ -156,7 +157,7 @@ class Registry:
     def entries(self, kind: str | None = None) -> list[ComponentEntry]:
         """Usable components, sorted by kind then name (all kinds if ``kind`` is None)."""
         found = [e for e in self._entries.values() if kind in (None, e.kind)]
-        return sorted(found, key=lambda e: (KINDS.index(e.kind), e.name))
+        return sorted(found, key=lambda e: (KIND_NAMES.index(e.kind), e.name))
 
     def clashes(self) -> dict[tuple[str, str], list[ComponentEntry]]:
         """Names claimed by more than one component of a kind (none of them is usable)."""
@@ -167,8 +168,7 @@ class Registry:
 
     def entry(self, kind: str, name: str) -> ComponentEntry:
         """The entry of ``name``; the error lists the known names or says why it is missing."""
-        if kind not in KINDS:
-            raise RegistryError(f"unknown component kind '{kind}': use one of {', '.join(KINDS)}")
+        kind_named(kind)
         key = (kind, name)
         if key in self._entries:
             return self._entries[key]
@@ -201,7 +201,7 @@ def _describe(error: BaseException) -> str:
 
 
 def _malformed(kind: str, cls: Any) -> str:
-    base = COMPONENT_BASES[kind]
+    base = kind_named(kind).base
     if not isinstance(cls, type) or not issubclass(cls, base):
         return f"{cls!r} handed over as a {kind} is not a subclass of {base.__name__}"
     if not isinstance(getattr(cls, "name", None), str) or not cls.name:

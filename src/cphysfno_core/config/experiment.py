@@ -14,6 +14,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from ..api.interfaces import format_validation_error, validate_params
+from ..api.kinds import KINDS
 from ..api.registry import Registry, get_registry
 from ..signals.errors import ConfigError
 from .precision import Precision
@@ -226,7 +227,7 @@ class ExperimentConfig(_Strict):
     def to_dict(self) -> dict[str, Any]:
         data = self.model_dump(
             mode="json",
-            exclude={"structure", "ground_motion", "operator", "refiner", "preprocessor"},
+            exclude={kind.name for kind in KINDS},
         )
         data["structure"] = self.structure.to_dict()
         data["ground_motion"] = self.ground_motion.to_dict()
@@ -238,32 +239,19 @@ class ExperimentConfig(_Strict):
         return data
 
 
-_SECTION_KIND = {
-    "structure": "structure",
-    "ground_motion": "ground_motion",
-    "refiner": "refiner",
-}
-
-
 def check_components(config: ExperimentConfig, registry: Registry | None = None) -> None:
     """Check every component name and its fields against the registry; raise ConfigError."""
     registry = registry or get_registry()
-    sections: list[tuple[str, str, ComponentSpec]] = []
-    for section, kind in _SECTION_KIND.items():
-        spec = getattr(config, section)
-        if spec is not None:
-            sections.append((section, kind, spec))
-    for section in ("preprocessor", "operator"):
-        specs = getattr(config, section)
+    for kind in (k for k in KINDS if k.name in ExperimentConfig.model_fields):
+        value = getattr(config, kind.name)
+        specs = value if isinstance(value, list) else [] if value is None else [value]
         for i, spec in enumerate(specs):
-            where = section if len(specs) == 1 else f"{section}[{i}]"
-            sections.append((where, section, spec))
-    for where, kind, spec in sections:
-        try:
-            cls = registry.get(kind, spec.name)
-        except LookupError as error:
-            raise ConfigError(f"{where}.name: {error}") from None
-        validate_params(cls.Params, spec.params, where)
+            where = kind.name if len(specs) == 1 else f"{kind.name}[{i}]"
+            try:
+                cls = registry.get(kind.name, spec.name)
+            except LookupError as error:
+                raise ConfigError(f"{where}.name: {error}") from None
+            validate_params(cls.Params, spec.params, where)
 
 
 def parse_config(data: dict[str, Any], registry: Registry | None = None) -> ExperimentConfig:
