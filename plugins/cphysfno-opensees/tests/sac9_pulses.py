@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from cphysfno_opensees.sac9.analysis import Rayleigh
+
+from cphysfno_core import Rayleigh
 
 DT = 0.01
 """Time step of :func:`pulse`, s."""

@@ -26,6 +26,8 @@ from cphysfno_opensees.sac9.phases import ELASTIC_SHARE, elastic_start
 from cphysfno_opensees.sac9.sections import HARDENING_RATIO, STEEL_MODULUS
 from sac9_pulses import DAMPING, DT, pulse, relative
 
+from cphysfno_core import Rayleigh
+
 MODEL = FrameConfig()
 PLAIN = SolverConfig(elastic_phases=False)
 TIGHT = SolverConfig(
@@ -35,7 +37,7 @@ TIGHT = SolverConfig(
 
 @pytest.fixture(scope="module")
 def condensed():
-    return elastic_frame(MODEL, DAMPING.mass, DAMPING.stiffness)
+    return elastic_frame(MODEL, DAMPING)
 
 
 def test_the_condensed_model_follows_opensees_while_no_fibre_yields(condensed):
@@ -55,7 +57,7 @@ def test_its_fibre_stresses_are_those_of_opensees(condensed):
     peak = int(np.argmax(np.abs(u[:, -1])))
     ops = import_opensees()
     frame = build_frame(ops, MODEL)
-    ops.rayleigh(DAMPING.mass, 0.0, DAMPING.stiffness, 0.0)
+    ops.rayleigh(DAMPING.mass_factor, 0.0, DAMPING.stiffness_factor, 0.0)
     ops.timeSeries("Path", 1, "-dt", DT, "-values", *record)
     ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
     configure_solver(ops, TIGHT)
@@ -158,4 +160,4 @@ def test_steel_stays_elastic_within_the_range_around_its_centre():
 
 def test_only_the_fibre_model_condenses():
     with pytest.raises(ValueError, match="fibre model"):
-        elastic_frame(dataclasses.replace(MODEL, model="hinges"), 0.1, 0.01)
+        elastic_frame(dataclasses.replace(MODEL, model="hinges"), Rayleigh(0.1, 0.01))

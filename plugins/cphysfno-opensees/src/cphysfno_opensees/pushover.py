@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from cphysfno_core import CphysfnoError, InputError, LinearSystem
+from cphysfno_core import CphysfnoError, InputError, LinearSystem, Rayleigh
 
 ELASTIC_TOLERANCE = 1e-3
 """A point of the curve is elastic while its secant stiffness (base shear over roof
@@ -237,9 +237,9 @@ def shear_building(
     stiffness = np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
     mass = np.diag(masses)
     omega = np.sqrt(np.linalg.eigvalsh(stiffness / np.sqrt(np.outer(masses, masses))))
-    a, b = (omega[m - 1] for m in damping_modes)
-    alpha, beta = 2 * damping_ratio * a * b / (a + b), 2 * damping_ratio / (a + b)
-    return LinearSystem(mass, alpha * mass + beta * stiffness, stiffness, np.ones(n), np.eye(n))
+    first, second = (omega[m - 1] for m in damping_modes)
+    damping = Rayleigh.matching(first, second, damping_ratio)
+    return LinearSystem(mass, damping.matrix(mass, stiffness), stiffness, np.ones(n), np.eye(n))
 
 
 def plot_pushover(curve: PushoverCurve, path: str | Path | None = None):

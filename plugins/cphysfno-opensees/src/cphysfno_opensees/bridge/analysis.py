@@ -6,10 +6,11 @@ import os
 
 import numpy as np
 
+from cphysfno_core import Rayleigh
+
 from ..loader import import_opensees
 from ..transient import integrate
 from .design import BridgeDesign
-from .linear import Rayleigh
 from .model import TRANSVERSE, Columns, ElasticSection, build
 from .numerics import Numerics
 

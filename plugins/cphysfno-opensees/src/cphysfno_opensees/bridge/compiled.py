@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from cphysfno_core import Rayleigh
+
 from ..fibre import concrete04, steel02
 from ..fibre.columns import Columns, ColumnState
 from ..fibre.dynamics import SPLITS, Partition, newmark, static_steps
@@ -34,7 +36,6 @@ from ..transient import AnalysisFailed
 from .analysis import analyse as opensees_analysis
 from .column import material_arguments, section_fibres, shear_and_torsion_stiffness
 from .design import GRAVITY, BridgeDesign
-from .linear import Rayleigh
 from .model import TRANSVERSE, build, tangent_stiffness
 from .numerics import Numerics
 
@@ -97,9 +98,7 @@ class CompiledBridge:
 
     def damping_matrix(self, damping: Rayleigh) -> np.ndarray:
         """``[n, n]`` Rayleigh damping ``a0 M + a1 K0``, N s/m."""
-        return damping.mass_factor * np.diag(self.mass) + (
-            damping.stiffness_factor * self.initial_stiffness
-        )
+        return damping.matrix(np.diag(self.mass), self.initial_stiffness)
 
     def partitions(self, damping: Rayleigh, step: float) -> tuple:
         """The partitions of Newmark's effective matrix for the step ``step`` (s) and for

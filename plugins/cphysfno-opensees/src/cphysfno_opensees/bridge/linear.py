@@ -18,19 +18,11 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from cphysfno_core import LinearSystem
+from cphysfno_core import LinearSystem, Rayleigh
 
 from .design import BridgeDesign
 from .model import TRANSVERSE, ElasticSection, apply_gravity, build, tangent_stiffness
 from .numerics import Numerics
-
-
-@dataclass(frozen=True)
-class Rayleigh:
-    """``C = mass_factor M + stiffness_factor K0`` (1/s and s)."""
-
-    mass_factor: float
-    stiffness_factor: float
 
 
 @dataclass(frozen=True)
@@ -59,16 +51,13 @@ class Matrices:
         return np.sqrt(squares)
 
     def rayleigh(self, ratio: float, second_period: float) -> Rayleigh:
-        """Rayleigh factors giving ``ratio`` of critical at the first mode and at
-        ``second_period`` (s)."""
-        first = self.frequencies()[0]
-        second = 2.0 * math.pi / second_period
-        stiffness_factor = 2.0 * ratio / (first + second)
-        return Rayleigh(stiffness_factor * first * second, stiffness_factor)
+        """Rayleigh factors on M and K0 giving ``ratio`` of critical at the first mode and
+        at ``second_period`` (s)."""
+        return Rayleigh.matching(self.frequencies()[0], 2.0 * math.pi / second_period, ratio)
 
     def linear_system(self, damping: Rayleigh) -> LinearSystem:
         """M, ``a0 M + a1 K0``, K, influence and output map."""
-        c = damping.mass_factor * self.mass + damping.stiffness_factor * self.initial_stiffness
+        c = damping.matrix(self.mass, self.initial_stiffness)
         return LinearSystem(self.mass, c, self.stiffness, self.influence, self.output_map)
 
 

@@ -10,14 +10,14 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import LinearSystem
+from cphysfno_core import LinearSystem, Rayleigh
 
 from ..loader import import_opensees
 from ..structure import OpenSeesParams, OpenSeesStructure
 from .analysis import analyse
 from .compiled import analyse as compiled_analysis
 from .design import BridgeDesign
-from .linear import Matrices, Rayleigh, assemble
+from .linear import Matrices, assemble
 from .model import ElasticSection, elastic_section
 from .numerics import Numerics
 

@@ -15,6 +15,8 @@ from typing import Any, Literal
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from cphysfno_core import Rayleigh
+
 from ..loader import import_opensees
 from ..transient import Abandoned, integrate
 from .elastic import elastic_frame, set_state
@@ -61,21 +63,6 @@ class SolverConfig:
     max_iterations: int = 50
     algorithm: tuple[str, ...] = ("Newton",)
     elastic_phases: bool = True
-
-
-@dataclass(frozen=True)
-class Rayleigh:
-    """``C = mass M + stiffness K_initial`` (coefficients in 1/s and s)."""
-
-    mass: float
-    stiffness: float
-
-    @classmethod
-    def matching(cls, omega_a: float, omega_b: float, ratio: float) -> Rayleigh:
-        """The coefficients that give ``ratio`` of critical damping at ``omega_a`` and
-        ``omega_b`` (rad/s)."""
-        total = omega_a + omega_b
-        return cls(2.0 * ratio * omega_a * omega_b / total, 2.0 * ratio / total)
 
 
 INTERIOR_DRIFT_LIMIT = 0.015
@@ -175,10 +162,10 @@ def transient_response(
     """
     leaps = solver.elastic_phases and frame_config.model == "fibre"
     # Before the model is built: the condensed model is made from analyses of its own.
-    model = elastic_frame(frame_config, damping.mass, damping.stiffness) if leaps else None
+    model = elastic_frame(frame_config, damping) if leaps else None
     ops = import_opensees()
     frame = build_frame(ops, frame_config)
-    ops.rayleigh(damping.mass, 0.0, damping.stiffness, 0.0)
+    ops.rayleigh(damping.mass_factor, 0.0, damping.stiffness_factor, 0.0)
     series, pattern = 1, 1
     ops.timeSeries("Path", series, "-dt", dt, "-values", *np.asarray(acceleration, dtype=float))
     ops.pattern("UniformExcitation", pattern, 1, "-accel", series)

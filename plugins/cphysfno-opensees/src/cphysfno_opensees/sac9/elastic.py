@@ -25,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from cphysfno_core import Rayleigh
+
 from ..loader import import_opensees
 from .interior import InteriorSections
 from .model import Frame, FrameConfig, build_frame
@@ -70,11 +72,9 @@ class ElasticFrame:
 
 
 @functools.lru_cache(maxsize=4)
-def elastic_frame(
-    config: FrameConfig, mass_damping: float, stiffness_damping: float
-) -> ElasticFrame:
-    """The condensed model of ``config`` (fibre model), with Rayleigh coefficients on the
-    mass (1/s) and the initial stiffness (s); computed once per process and model.
+def elastic_frame(config: FrameConfig, damping: Rayleigh) -> ElasticFrame:
+    """The condensed model of ``config`` (fibre model), with Rayleigh ``damping`` on the
+    mass and the initial stiffness; computed once per process, model and damping.
 
     OpenSees leaves zero-length elements out of Rayleigh damping, so the damping is
     proportional to the stiffness of the model without the leaning column's springs (which
@@ -95,7 +95,7 @@ def elastic_frame(
     return ElasticFrame(
         masses=masses,
         stiffness=stiffness,
-        damping=mass_damping * np.diag(masses) + stiffness_damping * damped,
+        damping=damping.matrix(np.diag(masses), damped),
         node_map={node: unit @ stiffness for node, unit in nodes.items()},
         sections=fibres.sections,
         interior=fibres.interior,

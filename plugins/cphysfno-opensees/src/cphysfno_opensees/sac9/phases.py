@@ -10,9 +10,11 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
+
+from cphysfno_core import Rayleigh
 
 from .elastic import (
     ElasticFrame,
@@ -25,9 +27,6 @@ from .elastic import (
     set_state,
 )
 from .model import FrameConfig
-
-if TYPE_CHECKING:
-    from .analysis import Rayleigh
 
 ELASTIC_SHARE = 0.99
 """Share of its elastic range up to which a fibre's stress is taken from the condensed
@@ -78,7 +77,7 @@ def elastic_start(
         acceleration: ``[T]`` ground acceleration, m/s^2.
         dt: time step, s.
     """
-    model = elastic_frame(frame_config, damping.mass, damping.stiffness)
+    model = elastic_frame(frame_config, damping)
     u, v, a = elastic_response(model, np.asarray(acceleration, dtype=float), dt)
     first = first_step_beyond(model, u, ELASTIC_SHARE)
     step = len(u) - 1 if first is None else max(first - 1, 0)

@@ -11,12 +11,12 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import ConfigError, LinearSystem
+from cphysfno_core import ConfigError, LinearSystem, Rayleigh
 
 from ..loader import import_opensees
 from ..pushover import PushoverCurve, plot_pushover, run_pushover, shear_building
 from ..structure import OpenSeesParams, OpenSeesStructure
-from .analysis import Rayleigh, SolverConfig, analyse_record
+from .analysis import SolverConfig, analyse_record
 from .model import FrameConfig, build_frame, eigenvalues
 from .sections import N_STORIES
 
