@@ -9,7 +9,7 @@ import importlib
 import sys
 
 from cphysfno_core import CphysfnoError
-from cphysfno_core.model.allocator import tune_memory
+from cphysfno_core.config.allocator import tune_memory
 from cphysfno_core.model.training import resolve_device
 
 from .common import format_rows, machine

@@ -1,6 +1,6 @@
 """Memory: generate a large Example 1 dataset chunk by chunk and report peak RSS; and what a
 fresh process pays to write its first output arrays, with and without NumPy's huge-page
-advice (:mod:`cphysfno_core.model.allocator`)."""
+advice (:mod:`cphysfno_core.config.allocator`)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import numpy as np
 from numpy._core.multiarray import _set_madvise_hugepage
 
 import cphysfno_core as cp
-from cphysfno_core.model.allocator import retain_freed_memory
+from cphysfno_core.config.allocator import retain_freed_memory
 
 from .common import Row, peak_rss_mib
 
@@ -69,7 +69,7 @@ def _first_simulation(n_records: int, huge_page_advice: bool) -> float:
 
 def first_call_row(n_records: int) -> Row:
     """The Bouc-Wen fine grid's first call in a fresh process, without NumPy's huge-page
-    advice (as :func:`cphysfno_core.model.allocator.tune_memory` sets) and with it (NumPy's
+    advice (as :func:`cphysfno_core.config.allocator.tune_memory` sets) and with it (NumPy's
     default), :data:`FIRST_CALL_PROCESSES` processes each, alternating; the medians."""
     context = multiprocessing.get_context("spawn")
     times: dict[bool, list[float]] = {False: [], True: []}

@@ -9,9 +9,9 @@ import time
 from pathlib import Path
 
 from ..api.registry import get_registry
+from ..config.allocator import tune_memory
 from ..config.experiment import load_config
 from ..config.precision import PRECISIONS
-from ..model.allocator import tune_memory
 from ..signals.errors import CphysfnoError
 
 

@@ -31,10 +31,10 @@ from typing import Any
 import numpy as np
 import torch
 
+from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig, parse_config
 from ..data.executors import run_tasks
 from ..data.layout import DATASET, MODELS
-from ..model.allocator import tune_memory
 from ..model.training import resolve_device
 from ..signals.errors import ConfigError
 from . import pipeline

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..api.interfaces import GroundMotionSource
 from ..api.registry import get_registry
+from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig
 from ..signals import GroundMotions
 from ..signals.errors import ConfigError, DatasetError
@@ -206,8 +207,10 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     Records are sampled once from ``config.data.seed`` (seeds belong to records, not to
     workers), simulated in chunks of ``config.data.chunk_size`` on the configured executor,
     and kept chunk by chunk until all are done. Killed and started again with the same
-    configuration, it simulates only the chunks that are missing.
+    configuration, it simulates only the chunks that are missing. The process's memory
+    allocator is tuned first (:func:`~cphysfno_core.config.allocator.tune_memory`).
     """
+    tune_memory()
     path = Path(path)
     identity = dataset_hash(config)
     if check_dataset_identity(path, identity):

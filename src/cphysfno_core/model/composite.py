@@ -22,6 +22,7 @@ from ..api.interfaces import (
     Structure,
 )
 from ..api.registry import get_registry
+from ..config.allocator import tune_memory
 from ..config.experiment import ComponentSpec, FormulationConfig, TrainingConfig
 from ..config.precision import Precision, operator_precision
 from ..signals import GroundMotions, TimeGrid
@@ -373,6 +374,7 @@ class CompositeModel:
         operator computes in ``precision`` (see :mod:`cphysfno_core.precision`); its output
         is decoded in float32.
         """
+        tune_memory()
         out = np.empty((n, steps, self.operator_.out_channels))
         self.operator_.eval()
         device = self.device

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from ..config.allocator import tune_memory
 from ..config.experiment import TrainingConfig
 from ..config.precision import operator_precision
 from ..signals.errors import ConfigError, DatasetError, InputError
@@ -240,6 +241,7 @@ def train_operator(
     if x_train.shape[0] != y_train.shape[0] or x_val.shape[0] != y_val.shape[0]:
         raise InputError("inputs and targets must hold the same number of records")
     device = resolve_device(settings.device)
+    tune_memory()
     torch.manual_seed(settings.seed)
     generator = torch.Generator().manual_seed(settings.seed)
     operator.to(device)

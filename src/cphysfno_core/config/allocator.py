@@ -20,8 +20,9 @@ Bouc-Wen records once took 0.5 s instead of 0.15-0.2 s. The arrays here are writ
 streamed and freed, where huge pages save little; :func:`skip_huge_page_advice` turns the
 advice off.
 
-:func:`tune_memory` does both; the ``cphysfno`` command, its study workers and the
-benchmarks call it at start.
+:func:`tune_memory` does both, once per process: the library calls it where it starts
+to allocate (training, prediction, data generation), so no script has to. Set the
+environment variable ``CPHYSFNO_TUNE_MEMORY=0`` to leave the process's allocator as it is.
 """
 
 from __future__ import annotations
@@ -74,8 +75,23 @@ def skip_huge_page_advice() -> bool:
     return True
 
 
-def tune_memory() -> None:
-    """:func:`retain_freed_memory` and :func:`skip_huge_page_advice`: call once at the start
-    of a process that simulates, trains or predicts on the CPU."""
+OPT_OUT = "CPHYSFNO_TUNE_MEMORY"
+"""Environment variable: ``0`` leaves the process's allocator as it is."""
+
+_tuned: list[bool] = []
+"""Holds ``True`` once :func:`tune_memory` has run in this process."""
+
+
+def tune_memory() -> bool:
+    """:func:`retain_freed_memory` and :func:`skip_huge_page_advice`, the first time it is
+    called in a process (later calls do nothing), unless ``CPHYSFNO_TUNE_MEMORY=0``.
+
+    Returns:
+        Whether this call changed the settings.
+    """
+    if _tuned or os.environ.get(OPT_OUT) == "0":
+        return False
+    _tuned.append(True)
     retain_freed_memory()
     skip_huge_page_advice()
+    return True
