@@ -1,4 +1,5 @@
 import types
+from pathlib import Path
 
 import pytest
 import toy_components
@@ -120,3 +121,15 @@ def test_one_list_of_kinds_makes_the_hooks_and_the_config_sections():
     assert sections == {"structure", "ground_motion", "preprocessor", "operator", "refiner"}
     with pytest.raises(cp.RegistryError, match="unknown component kind 'story'.*structure"):
         cp.create("story", "x")
+
+
+def test_the_readme_lists_every_registered_component(capsys):
+    """The README's components table is `cphysfno plugins --markdown`, so it cannot go stale
+    (regenerate it with that command when a component is added)."""
+    readme = (Path(__file__).parents[1] / "README.md").read_text()
+    start = readme.index("| kind | name | distribution | what |")
+    end = readme.index("<!-- end of generated table -->")
+    assert main(["plugins", "--markdown"]) == 0
+    printed = capsys.readouterr().out.strip()
+    assert readme[start:end].strip() == printed
+    assert printed.count("\n") - 1 == len(cp.get_registry().entries())

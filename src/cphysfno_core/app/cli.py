@@ -8,11 +8,23 @@ import sys
 import time
 from pathlib import Path
 
-from ..api.registry import get_registry
+from ..api.registry import Registry, get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import load_config
 from ..config.precision import PRECISIONS
 from ..signals.errors import CphysfnoError
+
+
+def components_markdown(registry: Registry) -> str:
+    """A Markdown table of the usable components: kind, name, distribution and the first
+    paragraph of the class's docstring (the README's components table)."""
+    lines = ["| kind | name | distribution | what |", "|---|---|---|---|"]
+    for e in registry.entries():
+        paragraph = (e.cls.__doc__ or "").strip().split("\n\n")[0]
+        what = " ".join(paragraph.split()).replace("``", "`")
+        distribution = e.distribution.split(" ")[0]
+        lines.append(f"| {e.kind} | `{e.name}` | `{distribution}` | {what} |")
+    return "\n".join(lines)
 
 
 def _plugins(args: argparse.Namespace) -> int:
@@ -39,6 +51,9 @@ def _plugins(args: argparse.Namespace) -> int:
             ],
         }
         print(json.dumps(document, indent=2, default=str))
+        return 0
+    if args.markdown:
+        print(components_markdown(registry))
         return 0
     for kind, entries in by_kind.items():
         print(f"{kind}:")
@@ -156,6 +171,9 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True)
     plugins = commands.add_parser("plugins", help="list registered components by kind")
     plugins.add_argument("--json", action="store_true", help="machine-readable output")
+    plugins.add_argument(
+        "--markdown", action="store_true", help="a Markdown table, as in the README"
+    )
     plugins.set_defaults(func=_plugins)
     stages = {
         "run": "generate data, train every model, evaluate and write the report",
