@@ -7,7 +7,12 @@ import numpy as np
 import pytest
 from cphysfno_opensees.bridge.design import BridgeDesign
 from cphysfno_opensees.fibre import concrete04
-from cphysfno_opensees.fibre.concrete04 import N_STATE, initial_state, parameters, trial
+from cphysfno_opensees.fibre.concrete04 import (
+    N_STATE,
+    Concrete04Parameters,
+    initial_state,
+    trial,
+)
 from cphysfno_opensees.loader import import_opensees
 
 RTOL = 1e-10
@@ -37,7 +42,7 @@ def opensees(arguments: tuple, strains: np.ndarray) -> tuple[np.ndarray, np.ndar
     ops = import_opensees()
     ops.wipe()
     if len(arguments) == 6:
-        arguments = arguments + (0.1,)  # the default beta, as parameters() has it
+        arguments = arguments + (0.1,)  # the default beta, as Concrete04Parameters has it
     ops.uniaxialMaterial("Concrete04", 1, *arguments)
     ops.testUniaxialMaterial(1)
     stress = np.empty(len(strains))
@@ -52,7 +57,7 @@ def opensees(arguments: tuple, strains: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 def numba_run(arguments: tuple, strains: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Stress, tangent and committed states of the port along ``strains``, each committed."""
-    p = parameters(*arguments)
+    p = Concrete04Parameters(*arguments).packed()
     committed = initial_state(p)
     out = np.empty(N_STATE)
     stress = np.empty(len(strains))
@@ -151,7 +156,7 @@ def knife_edge_history(arguments: tuple) -> np.ndarray:
     epscu, 2 epsc (where Karsan and Jirsa's rule changes formula), the cracking strain, et,
     zero, and first compressive strains barely above machine epsilon. Each strain is chosen
     from the port's own committed state, so a port off by an ulp picks it off the edge."""
-    p = parameters(*arguments)
+    p = Concrete04Parameters(*arguments).packed()
     committed = initial_state(p)
     out = np.empty(N_STATE)
     strains = []
@@ -196,7 +201,7 @@ def test_trial_depends_only_on_the_committed_state(material):
     """Uncommitted trials leave no trace: the last trial is the one-shot trial, bit for bit,
     and the committed state is never written."""
     rng = np.random.default_rng(11)
-    p = parameters(*material)
+    p = Concrete04Parameters(*material).packed()
     strains = random_walk(3, steps=1500)
     committed = initial_state(p)
     out = np.empty(N_STATE)
@@ -222,15 +227,16 @@ def test_trial_depends_only_on_the_committed_state(material):
 
 
 def test_virgin_state_and_layout():
-    p = parameters(*MATERIALS["cover"])
+    p = Concrete04Parameters(*MATERIALS["cover"]).packed()
     state = initial_state(p)
     assert state.shape == (N_STATE,) and state.dtype == np.float64
     assert state[concrete04.TANGENT] == EC and state[concrete04.UNLOAD_SLOPE] == EC
     assert trial(p, state, np.empty(N_STATE), 0.0) == (0.0, EC)
     secant = 34.5e6 / 0.002
     assert p[concrete04.R] == EC / (EC - secant)
-    assert parameters(*MATERIALS["steep secant"])[concrete04.R] == 400.0
-    assert initial_state(parameters(*MATERIALS["no tension"]))[concrete04.TENSION_SLOPE] == 0.0
+    assert Concrete04Parameters(*MATERIALS["steep secant"]).packed()[concrete04.R] == 400.0
+    no_tension = Concrete04Parameters(*MATERIALS["no tension"]).packed()
+    assert initial_state(no_tension)[concrete04.TENSION_SLOPE] == 0.0
 
 
 @pytest.mark.parametrize(
@@ -248,4 +254,4 @@ def test_virgin_state_and_layout():
 )
 def test_bad_parameters_are_refused(arguments, word):
     with pytest.raises(ValueError, match=word):
-        parameters(*arguments)
+        Concrete04Parameters(*arguments)

@@ -13,8 +13,8 @@ from cphysfno_opensees.fibre.steel02 import (
     N_STATE,
     SIG,
     TANGENT,
+    Steel02Parameters,
     initial_state,
-    parameters,
     trial,
 )
 from cphysfno_opensees.loader import import_opensees
@@ -140,7 +140,7 @@ def _assert_matches(ours, theirs, atol=ATOL):
 def test_stress_and_tangent_are_those_of_opensees(ops, material, history):
     arguments = MATERIALS[material]
     strains = HISTORIES[history]
-    p = parameters(*arguments)
+    p = Steel02Parameters(*arguments).packed()
     ours, states = _follow(p, initial_state(p), strains)
     # A null first increment gives exactly zero stress, which an absolute margin would hide.
     _assert_matches(ours, _opensees(ops, arguments, strains), 0.0 if "null" in history else ATOL)
@@ -151,7 +151,7 @@ def test_stress_and_tangent_are_those_of_opensees(ops, material, history):
 
 @pytest.mark.parametrize("material", MATERIALS)
 def test_the_histories_reach_every_branch(material):
-    p = parameters(*MATERIALS[material])
+    p = Steel02Parameters(*MATERIALS[material]).packed()
     kons = set()
     for name, strains in HISTORIES.items():
         ours, states = _follow(p, initial_state(p), strains)
@@ -164,8 +164,8 @@ def test_the_histories_reach_every_branch(material):
 def test_isotropic_hardening_shifts_the_curves():
     """The hardening set departs from the bar without it once cycles have grown."""
     strains = HISTORIES["symmetric growing cycles"]
-    plain = parameters(*MATERIALS["bridge bar"][:3], 18.0, 0.9, 0.1)
-    hardening = parameters(*MATERIALS["isotropic hardening"])
+    plain = Steel02Parameters(*MATERIALS["bridge bar"][:3], 18.0, 0.9, 0.1).packed()
+    hardening = Steel02Parameters(*MATERIALS["isotropic hardening"]).packed()
     difference = _follow(hardening, initial_state(hardening), strains)[0][:, 0]
     difference -= _follow(plain, initial_state(plain), strains)[0][:, 0]
     assert np.max(np.abs(difference)) > 0.02 * YIELD_STRESS
@@ -176,7 +176,7 @@ def test_isotropic_hardening_shifts_the_curves():
 def test_trials_before_a_commit_leave_no_trace(material, seed):
     """From every committed state of a history, trials at other strains (zero, tiny and
     large increments, both ways) then at the step's strain give what one trial gives."""
-    p = parameters(*MATERIALS[material])
+    p = Steel02Parameters(*MATERIALS[material]).packed()
     rng = np.random.default_rng(seed)
     strains = np.concatenate([[0.0, 1e-16], _random_walk(seed, n=1500)])
     committed = initial_state(p)
@@ -195,7 +195,7 @@ def test_trials_before_a_commit_leave_no_trace(material, seed):
 
 
 def test_the_trial_state_may_overwrite_the_committed_one():
-    p = parameters(*MATERIALS["isotropic hardening"])
+    p = Steel02Parameters(*MATERIALS["isotropic hardening"]).packed()
     committed = initial_state(p)
     apart = np.empty(N_STATE)
     for strain in HISTORIES["random walk 0"][:500]:
@@ -205,13 +205,14 @@ def test_the_trial_state_may_overwrite_the_committed_one():
 
 
 def test_initial_state_and_parameters():
-    p = parameters(*MATERIALS["isotropic hardening"])
+    p = Steel02Parameters(*MATERIALS["isotropic hardening"]).packed()
     assert p.dtype == np.float64 and p.ndim == 1
     state = initial_state(p)
     assert state.shape == (N_STATE,) and state.dtype == np.float64
     assert state[TANGENT] == MODULUS and state[KON] == 0.0
     assert state[SIG] == 0.0 and state[EPS] == 0.0
-    assert np.array_equal(parameters(1.0, 2.0, 0.1), parameters(1.0, 2.0, 0.1, 20.0, 0.925, 0.15))
+    defaults = Steel02Parameters(1.0, 2.0, 0.1).packed()
+    assert np.array_equal(defaults, Steel02Parameters(1.0, 2.0, 0.1, 20.0, 0.925, 0.15).packed())
 
 
 @pytest.mark.parametrize(
@@ -233,4 +234,4 @@ def test_initial_state_and_parameters():
 )
 def test_bad_parameters_are_refused(arguments):
     with pytest.raises(ValueError, match="Steel02"):
-        parameters(*arguments)
+        Steel02Parameters(*arguments)

@@ -4,8 +4,12 @@ both build their columns from these."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from ..fibre.concrete04 import Concrete04Parameters
+from ..fibre.steel02 import Steel02Parameters
 from .design import BridgeDesign
 from .numerics import Numerics
 
@@ -66,11 +70,25 @@ def polar_gauss(
     return fibres
 
 
-def material_arguments(
-    design: BridgeDesign,
-) -> tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
-    """OpenSees' arguments of the core and cover ``Concrete04`` (``fc epsc epscu Ec fct
-    et``, compression negative) and of the bars' ``Steel02`` (``Fy E0 b R0 cR1 cR2``), SI."""
+@dataclass(frozen=True)
+class ColumnMaterials:
+    """The uniaxial materials of the column section's three fibre groups.
+
+    Attributes:
+        core: Mander's confined concrete of the core.
+        cover: the unconfined cover concrete, spalled at ``cover_spalling_strain``.
+        bars: the longitudinal bars, their hardening slope the secant from first yield to
+            ``(steel_ultimate_strain, steel_ultimate)``.
+    """
+
+    core: Concrete04Parameters
+    cover: Concrete04Parameters
+    bars: Steel02Parameters
+
+
+def column_materials(design: BridgeDesign) -> ColumnMaterials:
+    """The core and cover ``Concrete04`` (tension up to ``concrete_tensile_strength``, zero
+    right after cracking) and the bars' ``Steel02`` of the design (see the README)."""
     core = design.confined_concrete()
     tension = design.concrete_tensile_strength
     cracking = tension / design.concrete_modulus
@@ -78,10 +96,29 @@ def material_arguments(
         design.steel_modulus
         * (design.steel_ultimate_strain - design.steel_yield / design.steel_modulus)
     )
-    return (
-        (-core.strength, -core.peak_strain, -core.ultimate_strain, design.concrete_modulus,
-         tension, cracking),
-        (-design.concrete_strength, -design.concrete_peak_strain, -design.cover_spalling_strain,
-         design.concrete_modulus, tension, cracking),
-        (design.steel_yield, design.steel_modulus, hardening, 20.0, 0.925, 0.15),
-    )  # fmt: skip
+    return ColumnMaterials(
+        core=Concrete04Parameters(
+            fc=-core.strength,
+            epsc=-core.peak_strain,
+            epscu=-core.ultimate_strain,
+            ec=design.concrete_modulus,
+            ft=tension,
+            et=cracking,
+        ),
+        cover=Concrete04Parameters(
+            fc=-design.concrete_strength,
+            epsc=-design.concrete_peak_strain,
+            epscu=-design.cover_spalling_strain,
+            ec=design.concrete_modulus,
+            ft=tension,
+            et=cracking,
+        ),
+        bars=Steel02Parameters(
+            fy=design.steel_yield,
+            e0=design.steel_modulus,
+            b=hardening,
+            r0=20.0,
+            cr1=0.925,
+            cr2=0.15,
+        ),
+    )

@@ -21,7 +21,6 @@ from threadpoolctl import threadpool_limits
 
 from cphysfno_core import Rayleigh
 
-from ..fibre import concrete04, steel02
 from ..fibre.columns import Columns, ColumnState
 from ..fibre.dynamics import SPLITS, Partition, newmark, static_steps
 from ..fibre.section import FibreGroup
@@ -34,7 +33,7 @@ from ..loader import import_opensees
 from ..quadrature import lobatto
 from ..transient import AnalysisFailed
 from .analysis import analyse as opensees_analysis
-from .column import material_arguments, section_fibres, shear_and_torsion_stiffness
+from .column import column_materials, section_fibres, shear_and_torsion_stiffness
 from .design import GRAVITY, BridgeDesign
 from .model import TRANSVERSE, build, tangent_stiffness
 from .numerics import Numerics
@@ -116,15 +115,7 @@ class CompiledBridge:
 def fibre_columns(design: BridgeDesign, numerics: Numerics) -> Columns:
     """The ten columns of :func:`.model.build`: the same fibres, materials,
     integration and orientation."""
-    core, cover, steel = material_arguments(design)
-    core_p = concrete04.parameters(*core)
-    cover_p = concrete04.parameters(*cover)
-    steel_p = steel02.parameters(*steel)
-
-    def group(fibres: np.ndarray, p: np.ndarray, module: Any) -> FibreGroup:
-        y, z, area = (np.ascontiguousarray(fibres[:, k]) for k in range(3))
-        return FibreGroup(y, z, area, p, module.initial_state(p))
-
+    materials = column_materials(design)
     core_fibres, cover_fibres, bars = section_fibres(design, numerics)
     locations, weights = lobatto(numerics.integration_points)
     heights = [h for h in design.pier_heights for _ in (0, 1)]
@@ -134,9 +125,9 @@ def fibre_columns(design: BridgeDesign, numerics: Numerics) -> Columns:
     rotation = np.stack([axis_x, axis_y, np.cross(axis_x, axis_y)])
     shear, torsion = shear_and_torsion_stiffness(design)
     return Columns(
-        core=group(core_fibres, core_p, concrete04),
-        cover=group(cover_fibres, cover_p, concrete04),
-        bars=group(bars, steel_p, steel02),
+        core=FibreGroup.of(core_fibres, materials.core),
+        cover=FibreGroup.of(cover_fibres, materials.cover),
+        bars=FibreGroup.of(bars, materials.bars),
         lengths=np.asarray(heights, dtype=np.float64),
         rotations=np.broadcast_to(rotation, (len(heights), 3, 3)).copy(),
         locations=locations,

@@ -14,7 +14,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .column import material_arguments, section_fibres, shear_and_torsion_stiffness
+from .column import column_materials, section_fibres, shear_and_torsion_stiffness
 from .design import GRAVITY, BridgeDesign
 from .numerics import Numerics
 
@@ -162,10 +162,10 @@ def _shear_and_torsion(ops: Any, design: BridgeDesign) -> tuple[float, float]:
 
 def _fibre_section(ops: Any, design: BridgeDesign, numerics: Numerics) -> None:
     """Confined core, unconfined cover and reinforcing bars, with elastic shear and torsion."""
-    core, cover, steel = material_arguments(design)
-    ops.uniaxialMaterial("Concrete04", CORE, *core)
-    ops.uniaxialMaterial("Concrete04", COVER, *cover)
-    ops.uniaxialMaterial("Steel02", STEEL, *steel)
+    materials = column_materials(design)
+    materials.core.define(ops, CORE)
+    materials.cover.define(ops, COVER)
+    materials.bars.define(ops, STEEL)
     shear, torsion = _shear_and_torsion(ops, design)
     ops.section("Fiber", FIBRE_SECTION, "-GJ", torsion)
     groups = zip((CORE, COVER, STEEL), section_fibres(design, numerics), strict=True)

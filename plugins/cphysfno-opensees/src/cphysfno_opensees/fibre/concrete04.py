@@ -12,17 +12,22 @@ same floating-point order, so stress and tangent are those of OpenSees for any s
 history. A fibre's committed state is one row of ``N_STATE`` numbers; ``trial`` reads it,
 never writes it, and writes the trial state into a second row, which the caller copies onto
 the committed one to commit the step (or leaves alone to revert it). Signs are those of
-OpenSees: compression negative.
+OpenSees: compression negative. A material's parameters are a :class:`Concrete04Parameters`,
+which packs them, with the constants the law derives from them, into the flat vector ``p``
+that ``trial`` reads (:meth:`Concrete04Parameters.packed`, the one place that knows its
+slots besides ``trial``).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import astuple, dataclass
+from typing import Any
 
 import numba
 import numpy as np
 
-# Parameter slots of the array returned by ``parameters``.
+# Parameter slots of the array returned by ``Concrete04Parameters.packed``.
 FC = 0  # peak compressive stress f'c, Pa (negative)
 EPSC = 1  # strain at f'c (negative)
 EPSCU = 2  # crushing strain, beyond which the compressive stress is zero (negative)
@@ -53,21 +58,13 @@ N_STATE = 8
 _DBL_EPSILON = float(np.finfo(np.float64).eps)
 
 
-def parameters(
-    fc: float,
-    epsc: float,
-    epscu: float,
-    ec: float,
-    ft: float = 0.0,
-    et: float = 0.0,
-    beta: float = 0.1,
-) -> np.ndarray:
-    """Parameters of one Concrete04 material, with the constants ``trial`` derives from them.
+@dataclass(frozen=True)
+class Concrete04Parameters:
+    """The parameters of a Concrete04 material: the arguments of OpenSees' ``uniaxialMaterial
+    Concrete04 tag fc epsc epscu Ec fct et beta``, in that order and with its signs
+    (compression negative), validated when made.
 
-    The arguments are those of ``uniaxialMaterial Concrete04 tag fc epsc epscu Ec fct et beta``
-    in OpenSees, with its signs: compression negative.
-
-    Args:
+    Attributes:
         fc: peak compressive stress f'c, Pa, negative.
         epsc: strain at f'c, negative.
         epscu: crushing strain, negative; the compressive stress is zero beyond it.
@@ -78,55 +75,77 @@ def parameters(
             at or below ``ft / ec`` the tensile stress drops to zero right after cracking.
         beta: ratio of the stress at ``et`` to ``ft``, positive.
 
-    Returns:
-        float64 array of length ``N_PARAMETERS`` (slots ``FC`` to ``SOFTENING_SPAN``).
-
     Raises:
         ValueError: a value is not finite or has the wrong sign.
     """
-    values = {"fc": fc, "epsc": epsc, "epscu": epscu, "ec": ec, "ft": ft, "et": et, "beta": beta}
-    for name, value in values.items():
-        if not math.isfinite(value):
-            raise ValueError(f"Concrete04: {name} must be finite, got {value!r}")
-    for name in ("fc", "epsc", "epscu"):
-        if values[name] >= 0.0:
+
+    fc: float
+    epsc: float
+    epscu: float
+    ec: float
+    ft: float = 0.0
+    et: float = 0.0
+    beta: float = 0.1
+
+    def __post_init__(self) -> None:
+        for name, value in vars(self).items():
+            if not math.isfinite(value):
+                raise ValueError(f"Concrete04: {name} must be finite, got {value!r}")
+            object.__setattr__(self, name, float(value))
+        for name in ("fc", "epsc", "epscu"):
+            value = getattr(self, name)
+            if value >= 0.0:
+                raise ValueError(
+                    f"Concrete04: {name} must be negative (compression), got {value!r}"
+                )
+        if self.ec <= 0.0:
+            raise ValueError(f"Concrete04: ec must be positive, got {self.ec!r}")
+        if self.ft < 0.0:
             raise ValueError(
-                f"Concrete04: {name} must be negative (compression), got {values[name]!r}"
+                f"Concrete04: ft must be zero (no tension) or positive, got {self.ft!r}"
             )
-    if ec <= 0.0:
-        raise ValueError(f"Concrete04: ec must be positive, got {ec!r}")
-    if ft < 0.0:
-        raise ValueError(f"Concrete04: ft must be zero (no tension) or positive, got {ft!r}")
-    if et < 0.0:
-        raise ValueError(f"Concrete04: et must be zero or positive, got {et!r}")
-    if beta <= 0.0:
-        raise ValueError(f"Concrete04: beta must be positive, got {beta!r}")
-    fc, epsc, epscu, ec, ft, et, beta = (float(v) for v in values.values())
-    # Popovics exponent, as OpenSees: 400 when the secant to the peak is not below Ec.
-    secant = fc / epsc
-    r = 400.0 if secant >= ec else ec / (ec - secant)
-    p = np.empty(N_PARAMETERS)
-    p[FC] = fc
-    p[EPSC] = epsc
-    p[EPSCU] = epscu
-    p[EC] = ec
-    p[FT] = ft
-    p[ET] = et
-    p[BETA] = beta
-    p[R] = r
-    p[R_MINUS_ONE] = r - 1.0
-    p[POPOVICS_SLOPE] = fc * r * (r - 1.0)
-    p[CRACKING_STRAIN] = ft / ec
-    p[LOG_BETA] = math.log(beta)
-    p[SOFTENING_SPAN] = et - ft / ec
-    return p
+        if self.et < 0.0:
+            raise ValueError(f"Concrete04: et must be zero or positive, got {self.et!r}")
+        if self.beta <= 0.0:
+            raise ValueError(f"Concrete04: beta must be positive, got {self.beta!r}")
+
+    def packed(self) -> np.ndarray:
+        """The parameter vector :func:`trial` reads, with the constants it derives from the
+        arguments: float64 [N_PARAMETERS] (slots ``FC`` to ``SOFTENING_SPAN``)."""
+        fc, epsc, ec, ft, et, beta = self.fc, self.epsc, self.ec, self.ft, self.et, self.beta
+        # Popovics exponent, as OpenSees: 400 when the secant to the peak is not below Ec.
+        secant = fc / epsc
+        r = 400.0 if secant >= ec else ec / (ec - secant)
+        p = np.empty(N_PARAMETERS)
+        p[FC] = fc
+        p[EPSC] = epsc
+        p[EPSCU] = self.epscu
+        p[EC] = ec
+        p[FT] = ft
+        p[ET] = et
+        p[BETA] = beta
+        p[R] = r
+        p[R_MINUS_ONE] = r - 1.0
+        p[POPOVICS_SLOPE] = fc * r * (r - 1.0)
+        p[CRACKING_STRAIN] = ft / ec
+        p[LOG_BETA] = math.log(beta)
+        p[SOFTENING_SPAN] = et - ft / ec
+        return p
+
+    def initial_state(self) -> np.ndarray:
+        """The committed state of a virgin fibre (see the function :func:`initial_state`)."""
+        return initial_state(self.packed())
+
+    def define(self, ops: Any, tag: int) -> None:
+        """Define this material in OpenSees (``ops``) as uniaxial material ``tag``."""
+        ops.uniaxialMaterial("Concrete04", tag, *astuple(self))
 
 
 def initial_state(p: np.ndarray) -> np.ndarray:
     """Committed state of a virgin fibre.
 
     Args:
-        p: parameters from ``parameters``.
+        p: parameters from :meth:`Concrete04Parameters.packed`.
 
     Returns:
         float64 array of length ``N_STATE``: zero strain, stress and history, tangent and
@@ -309,7 +328,7 @@ def trial(p, committed, out, strain):
     and raises nothing; ``committed`` and ``out`` may be the same array.
 
     Args:
-        p: parameters from ``parameters`` (float64 [N_PARAMETERS]).
+        p: parameters from :meth:`Concrete04Parameters.packed` (float64 [N_PARAMETERS]).
         committed: committed state (float64 [N_STATE]); read only.
         out: receives the trial state (float64 [N_STATE]).
         strain: total strain, compression negative.

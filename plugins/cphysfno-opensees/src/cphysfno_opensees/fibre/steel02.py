@@ -4,9 +4,11 @@ Giuffre-Menegotto-Pinto steel with the curvature parameters ``R0, cR1, cR2`` and
 isotropic hardening ``a1..a4``, written to give the stress and tangent OpenSees gives for any
 strain history (no initial stress, ``sigInit = 0``).
 
-The material is a pure function of a parameter vector ``p`` (from :func:`parameters`), a
-committed state vector (from :func:`initial_state`, then from earlier calls) and the trial
-strain. :func:`trial` writes the trial state into a second vector; committing a step is
+A material's parameters are a :class:`Steel02Parameters`, which packs them into the flat
+parameter vector ``p`` the compiled law reads (:meth:`Steel02Parameters.packed`, the one
+place that knows its slots besides :func:`trial`). The material is a pure function of
+``p``, a committed state vector (from :func:`initial_state`, then from earlier calls) and
+the trial strain. :func:`trial` writes the trial state into a second vector; committing a step is
 copying that vector over the committed one, reverting is not copying it. The state holds
 every variable OpenSees' ``Steel02`` keeps between steps, in the slots named below.
 
@@ -16,6 +18,8 @@ Units: stresses and moduli in Pa, strains dimensionless.
 from __future__ import annotations
 
 import math
+from dataclasses import astuple, dataclass
+from typing import Any
 
 import numba
 import numpy as np
@@ -57,24 +61,12 @@ _NEGLIGIBLE_LOG = -53.0 * math.log(2.0) - 1e-6
 _NULL_INCREMENT = 10.0 * np.finfo(np.float64).eps
 
 
-def parameters(
-    fy: float,
-    e0: float,
-    b: float,
-    r0: float = 20.0,
-    cr1: float = 0.925,
-    cr2: float = 0.15,
-    a1: float = 0.0,
-    a2: float = 1.0,
-    a3: float = 0.0,
-    a4: float = 1.0,
-) -> np.ndarray:
-    """Parameter vector of a Steel02 material.
+@dataclass(frozen=True)
+class Steel02Parameters:
+    """The parameters of a Steel02 material: the arguments of OpenSees' ``uniaxialMaterial
+    Steel02 tag Fy E0 b R0 cR1 cR2 a1 a2 a3 a4``, in that order, validated when made.
 
-    The arguments are those of OpenSees' ``uniaxialMaterial Steel02 tag Fy E0 b R0 cR1 cR2
-    <a1 a2 a3 a4>``.
-
-    Args:
+    Attributes:
         fy: yield stress [Pa], > 0.
         e0: initial elastic modulus [Pa], > 0.
         b: strain-hardening ratio Esh / E0 [-], 0 <= b < 1.
@@ -86,58 +78,77 @@ def parameters(
         a3: tensile isotropic hardening: stress shift per (range / (2 a4 Fy/E0))^0.8 [-].
         a4: tensile isotropic hardening: strain range scale, in yield strains [-], > 0.
 
-    Returns:
-        float64 array [N_PARAMETERS]: the arguments in the order above, then Esh = b E0 [Pa]
-        and the yield strain Fy / E0 [-].
-
     Raises:
-        ValueError: an argument is not finite or is out of its range.
+        ValueError: an argument is not a finite real number or is out of its range.
     """
-    values = {
-        "fy": fy,
-        "e0": e0,
-        "b": b,
-        "r0": r0,
-        "cr1": cr1,
-        "cr2": cr2,
-        "a1": a1,
-        "a2": a2,
-        "a3": a3,
-        "a4": a4,
-    }
-    for name, value in values.items():
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            raise ValueError(f"Steel02 {name} must be a real number, got {value!r}") from None
-        if not math.isfinite(number):
-            raise ValueError(f"Steel02 {name} must be finite, got {value!r}")
-        values[name] = number
-    checks = (
-        ("fy", values["fy"] > 0.0, "> 0"),
-        ("e0", values["e0"] > 0.0, "> 0"),
-        ("b", 0.0 <= values["b"] < 1.0, "in [0, 1)"),
-        ("r0", values["r0"] > 0.0, "> 0"),
-        ("cr1", 0.0 <= values["cr1"] < 1.0, "in [0, 1)"),
-        ("cr2", values["cr2"] > 0.0, "> 0"),
-        ("a2", values["a2"] > 0.0, "> 0"),
-        ("a4", values["a4"] > 0.0, "> 0"),
-    )
-    for name, ok, requirement in checks:
-        if not ok:
-            raise ValueError(f"Steel02 {name} must be {requirement}, got {values[name]!r}")
-    p = np.empty(N_PARAMETERS, dtype=np.float64)
-    p[:ESH] = list(values.values())
-    p[ESH] = p[B] * p[E0]  # as OpenSees: Esh = b * E0
-    p[EPSY] = p[FY] / p[E0]  # as OpenSees: epsy = Fy / E0
-    return p
+
+    fy: float
+    e0: float
+    b: float
+    r0: float = 20.0
+    cr1: float = 0.925
+    cr2: float = 0.15
+    a1: float = 0.0
+    a2: float = 1.0
+    a3: float = 0.0
+    a4: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name, value in vars(self).items():
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                raise ValueError(f"Steel02 {name} must be a real number, got {value!r}") from None
+            if not math.isfinite(number):
+                raise ValueError(f"Steel02 {name} must be finite, got {value!r}")
+            object.__setattr__(self, name, number)
+        checks = (
+            ("fy", self.fy > 0.0, "> 0"),
+            ("e0", self.e0 > 0.0, "> 0"),
+            ("b", 0.0 <= self.b < 1.0, "in [0, 1)"),
+            ("r0", self.r0 > 0.0, "> 0"),
+            ("cr1", 0.0 <= self.cr1 < 1.0, "in [0, 1)"),
+            ("cr2", self.cr2 > 0.0, "> 0"),
+            ("a2", self.a2 > 0.0, "> 0"),
+            ("a4", self.a4 > 0.0, "> 0"),
+        )
+        for name, ok, requirement in checks:
+            if not ok:
+                value = getattr(self, name)
+                raise ValueError(f"Steel02 {name} must be {requirement}, got {value!r}")
+
+    def packed(self) -> np.ndarray:
+        """The parameter vector :func:`trial` reads: float64 [N_PARAMETERS], the arguments
+        in the slots ``FY`` to ``A4``, then Esh = b E0 [Pa] and the yield strain Fy / E0."""
+        p = np.empty(N_PARAMETERS, dtype=np.float64)
+        p[FY] = self.fy
+        p[E0] = self.e0
+        p[B] = self.b
+        p[R0] = self.r0
+        p[CR1] = self.cr1
+        p[CR2] = self.cr2
+        p[A1] = self.a1
+        p[A2] = self.a2
+        p[A3] = self.a3
+        p[A4] = self.a4
+        p[ESH] = p[B] * p[E0]  # as OpenSees: Esh = b * E0
+        p[EPSY] = p[FY] / p[E0]  # as OpenSees: epsy = Fy / E0
+        return p
+
+    def initial_state(self) -> np.ndarray:
+        """The committed state of a virgin fibre (see the function :func:`initial_state`)."""
+        return initial_state(self.packed())
+
+    def define(self, ops: Any, tag: int) -> None:
+        """Define this material in OpenSees (``ops``) as uniaxial material ``tag``."""
+        ops.uniaxialMaterial("Steel02", tag, *astuple(self))
 
 
 def initial_state(p: np.ndarray) -> np.ndarray:
     """Committed state of a virgin fibre (OpenSees' constructor, ``sigInit = 0``).
 
     Args:
-        p: parameter vector from :func:`parameters`.
+        p: parameter vector from :meth:`Steel02Parameters.packed`.
 
     Returns:
         float64 array [N_STATE]: zero strain, stress and reversal point, tangent E0 [Pa],
@@ -259,7 +270,7 @@ def trial(p, committed, out, strain):
     read before ``out`` is written, so ``out`` may be ``committed`` itself.
 
     Args:
-        p: float64 [N_PARAMETERS], from :func:`parameters`.
+        p: float64 [N_PARAMETERS], from :meth:`Steel02Parameters.packed`.
         committed: float64 [N_STATE], the committed state; not modified.
         out: float64 [N_STATE], receives the trial state.
         strain: total strain [-].
