@@ -19,7 +19,8 @@ from ..config.experiment import ExperimentConfig
 from ..data.datasets import load_dataset
 from ..data.generation import generate_dataset
 from ..data.layout import DATASET, MODELS
-from ..model.composite import CompositeModel, model_label
+from ..model.composite import CompositeModel
+from ..model.parts import model_label
 from ..model.training import resolve_device
 from ..reporting import against_physics, metrics
 from ..reporting.evaluation import Evaluation, interval_coverage_scores, metric_row

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import copy
 import itertools
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,12 +27,12 @@ from ..config.precision import Precision, operator_precision
 from ..signals import GroundMotions, TimeGrid
 from ..signals.errors import (
     ConfigError,
-    ExtrapolationWarning,
     InputError,
     NotFittedError,
 )
-from ..signals.intensity import STANDARD_GRAVITY, peak_ground_acceleration
-from .parts import PartLike, resolve
+from ..signals.intensity import peak_ground_acceleration
+from .extrapolation import warn_extrapolation
+from .parts import PartLike, model_label, resolve
 from .persistence import load_model, save_model
 from .training import (
     EpochReport,
@@ -48,27 +47,9 @@ PREDICT_CHUNK = 8
 """Records per operator call in prediction: the activations of a chunk (a few MiB per
 record at the paper's sizes) stay small and are reused from chunk to chunk."""
 
-EXTRAPOLATION_FACTOR = 3.0
-"""Records whose PGA lies more than this factor below the weakest or above the strongest
-training record are flagged as extrapolations."""
-
 
 def _rows_of(array: np.ndarray | None, rows: slice) -> np.ndarray | None:
     return None if array is None else array[rows]
-
-
-def model_label(
-    operator: str,
-    preprocessor: str | None = None,
-    refined: bool = False,
-    residual: bool = False,
-) -> str:
-    """``fno`` for the baseline, ``c-physfno-els`` for FNO on the ELS response (in general
-    ``c-phys<operator>-<preprocessor>``), ``-residual`` behind it for the residual
-    formulation, ``refined-`` in front when refined."""
-    label = operator if preprocessor is None else f"c-phys{operator}-{preprocessor}"
-    label += "-residual" if residual else ""
-    return f"refined-{label}" if refined else label
 
 
 @dataclass
@@ -327,25 +308,6 @@ class CompositeModel:
                 "zero-padded at the end; cphysfno predict --on-grid does the same)"
             )
 
-    def _warn_extrapolation(self, motions: GroundMotions) -> None:
-        """Warn (:class:`ExtrapolationWarning`) about records whose PGA lies more than
-        :data:`EXTRAPOLATION_FACTOR` beyond the training records' range."""
-        low, high = getattr(self, "training_pga_", None) or (0.0, np.inf)
-        pga = peak_ground_acceleration(motions.acceleration)
-        outside = (pga < low / EXTRAPOLATION_FACTOR) | (pga > high * EXTRAPOLATION_FACTOR)
-        if not outside.any():
-            return
-        message = (
-            f"{int(outside.sum())} of {len(pga)} records have a PGA outside "
-            f"{low / EXTRAPOLATION_FACTOR:.3g}-{high * EXTRAPOLATION_FACTOR:.3g} m/s^2, "
-            f"{EXTRAPOLATION_FACTOR:g} times beyond the {low:.3g}-{high:.3g} m/s^2 of the "
-            f"records model '{self.label}' was trained on: its predictions for them are "
-            "extrapolations"
-        )
-        if low / STANDARD_GRAVITY <= np.median(pga) <= high / STANDARD_GRAVITY:
-            message += " (their PGA falls in the training range divided by g: are they in g?)"
-        warnings.warn(message, ExtrapolationWarning, stacklevel=3)
-
     def _check_fitted(self) -> None:
         if getattr(self, "operator_", None) is None or not hasattr(self, "input_normalizer_"):
             raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
@@ -410,7 +372,7 @@ class CompositeModel:
         """
         self._check_fitted()
         self._check_grid(motions)
-        self._warn_extrapolation(motions)
+        warn_extrapolation(motions, getattr(self, "training_pga_", None), self.label)
         if self.preprocessor is not None and z is None:
             z = self.physics(motions)
         shape = motions.acceleration.shape

@@ -1,0 +1,38 @@
+"""Records far outside the range a model was trained on are flagged, not refused."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..signals import GroundMotions
+from ..signals.errors import ExtrapolationWarning
+from ..signals.intensity import STANDARD_GRAVITY, peak_ground_acceleration
+
+EXTRAPOLATION_FACTOR = 3.0
+"""Records whose PGA lies more than this factor below the weakest or above the strongest
+training record are flagged as extrapolations."""
+
+
+def warn_extrapolation(
+    motions: GroundMotions, training_pga: tuple[float, float] | None, label: str
+) -> None:
+    """Warn (:class:`ExtrapolationWarning`) about records whose PGA lies more than
+    :data:`EXTRAPOLATION_FACTOR` beyond ``training_pga``, the range (m/s^2) of the records
+    model ``label`` was trained on (None: nothing is known, nothing is flagged)."""
+    low, high = training_pga or (0.0, np.inf)
+    pga = peak_ground_acceleration(motions.acceleration)
+    outside = (pga < low / EXTRAPOLATION_FACTOR) | (pga > high * EXTRAPOLATION_FACTOR)
+    if not outside.any():
+        return
+    message = (
+        f"{int(outside.sum())} of {len(pga)} records have a PGA outside "
+        f"{low / EXTRAPOLATION_FACTOR:.3g}-{high * EXTRAPOLATION_FACTOR:.3g} m/s^2, "
+        f"{EXTRAPOLATION_FACTOR:g} times beyond the {low:.3g}-{high:.3g} m/s^2 of the "
+        f"records model '{label}' was trained on: its predictions for them are "
+        "extrapolations"
+    )
+    if low / STANDARD_GRAVITY <= np.median(pga) <= high / STANDARD_GRAVITY:
+        message += " (their PGA falls in the training range divided by g: are they in g?)"
+    warnings.warn(message, ExtrapolationWarning, stacklevel=3)
