@@ -4,6 +4,7 @@ both build their columns from these."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,22 +97,21 @@ def column_materials(design: BridgeDesign) -> ColumnMaterials:
         design.steel_modulus
         * (design.steel_ultimate_strain - design.steel_yield / design.steel_modulus)
     )
+    confined = Concrete04Parameters(
+        fc=-core.strength,
+        epsc=-core.peak_strain,
+        epscu=-core.ultimate_strain,
+        ec=design.concrete_modulus,
+        ft=tension,
+        et=cracking,
+    )
     return ColumnMaterials(
-        core=Concrete04Parameters(
-            fc=-core.strength,
-            epsc=-core.peak_strain,
-            epscu=-core.ultimate_strain,
-            ec=design.concrete_modulus,
-            ft=tension,
-            et=cracking,
-        ),
-        cover=Concrete04Parameters(
+        core=confined,
+        cover=dataclasses.replace(  # the same concrete, unconfined
+            confined,
             fc=-design.concrete_strength,
             epsc=-design.concrete_peak_strain,
             epscu=-design.cover_spalling_strain,
-            ec=design.concrete_modulus,
-            ft=tension,
-            et=cracking,
         ),
         bars=Steel02Parameters(
             fy=design.steel_yield,

@@ -21,11 +21,13 @@ slots besides ``trial``).
 from __future__ import annotations
 
 import math
-from dataclasses import astuple, dataclass
-from typing import Any
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numba
 import numpy as np
+
+from .material import UniaxialMaterial
 
 # Parameter slots of the array returned by ``Concrete04Parameters.packed``.
 FC = 0  # peak compressive stress f'c, Pa (negative)
@@ -59,7 +61,7 @@ _DBL_EPSILON = float(np.finfo(np.float64).eps)
 
 
 @dataclass(frozen=True)
-class Concrete04Parameters:
+class Concrete04Parameters(UniaxialMaterial):
     """The parameters of a Concrete04 material: the arguments of OpenSees' ``uniaxialMaterial
     Concrete04 tag fc epsc epscu Ec fct et beta``, in that order and with its signs
     (compression negative), validated when made.
@@ -78,6 +80,8 @@ class Concrete04Parameters:
     Raises:
         ValueError: a value is not finite or has the wrong sign.
     """
+
+    opensees_name: ClassVar[str] = "Concrete04"
 
     fc: float
     epsc: float
@@ -135,10 +139,6 @@ class Concrete04Parameters:
     def initial_state(self) -> np.ndarray:
         """The committed state of a virgin fibre (see the function :func:`initial_state`)."""
         return initial_state(self.packed())
-
-    def define(self, ops: Any, tag: int) -> None:
-        """Define this material in OpenSees (``ops``) as uniaxial material ``tag``."""
-        ops.uniaxialMaterial("Concrete04", tag, *astuple(self))
 
 
 def initial_state(p: np.ndarray) -> np.ndarray:

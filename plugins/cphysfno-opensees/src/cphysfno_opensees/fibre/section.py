@@ -8,36 +8,17 @@ groups of one uniaxial material each; every group's material is a module with th
 ``trial(p, committed, out, strain) -> (stress, tangent)`` of :mod:`.concrete04` and
 :mod:`.steel02`, which computes a trial state from the committed one only, so that any
 number of trials may precede a commit, and a parameter class of the
-:class:`UniaxialMaterial` protocol.
+:class:`~.material.UniaxialMaterial` protocol.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Protocol
 
 import numba
 import numpy as np
 
-
-class UniaxialMaterial(Protocol):
-    """The parameters of a uniaxial material that fibres can be made of
-    (:class:`~.steel02.Steel02Parameters`, :class:`~.concrete04.Concrete04Parameters`): a
-    frozen dataclass of named parameters (SI units), validated when made, that packs itself
-    into the flat parameter vector of its compiled ``trial`` law and defines itself in
-    OpenSees."""
-
-    def packed(self) -> np.ndarray:
-        """``[n_parameters]`` float64: the parameter vector ``p`` of the compiled law."""
-        ...
-
-    def initial_state(self) -> np.ndarray:
-        """``[n_state]`` float64: the committed state of a virgin fibre."""
-        ...
-
-    def define(self, ops: Any, tag: int) -> None:
-        """Define the material in OpenSees (``ops``) as uniaxial material ``tag``."""
-        ...
+from .material import UniaxialMaterial
 
 
 @dataclass(frozen=True)
@@ -47,7 +28,8 @@ class FibreGroup:
     Attributes:
         y, z: ``[n]`` local coordinates of the fibres, m.
         area: ``[n]`` fibre areas, m^2.
-        parameters: the material's packed parameter vector (:meth:`UniaxialMaterial.packed`).
+        parameters: the material's packed parameter vector
+            (:meth:`~.material.UniaxialMaterial.packed`).
         initial_state: ``[n_state]`` the material's virgin state.
     """
 

@@ -18,11 +18,13 @@ Units: stresses and moduli in Pa, strains dimensionless.
 from __future__ import annotations
 
 import math
-from dataclasses import astuple, dataclass
-from typing import Any
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numba
 import numpy as np
+
+from .material import UniaxialMaterial
 
 # Slots of the parameter vector.
 FY = 0  # yield stress [Pa]
@@ -62,7 +64,7 @@ _NULL_INCREMENT = 10.0 * np.finfo(np.float64).eps
 
 
 @dataclass(frozen=True)
-class Steel02Parameters:
+class Steel02Parameters(UniaxialMaterial):
     """The parameters of a Steel02 material: the arguments of OpenSees' ``uniaxialMaterial
     Steel02 tag Fy E0 b R0 cR1 cR2 a1 a2 a3 a4``, in that order, validated when made.
 
@@ -81,6 +83,8 @@ class Steel02Parameters:
     Raises:
         ValueError: an argument is not a finite real number or is out of its range.
     """
+
+    opensees_name: ClassVar[str] = "Steel02"
 
     fy: float
     e0: float
@@ -138,10 +142,6 @@ class Steel02Parameters:
     def initial_state(self) -> np.ndarray:
         """The committed state of a virgin fibre (see the function :func:`initial_state`)."""
         return initial_state(self.packed())
-
-    def define(self, ops: Any, tag: int) -> None:
-        """Define this material in OpenSees (``ops``) as uniaxial material ``tag``."""
-        ops.uniaxialMaterial("Steel02", tag, *astuple(self))
 
 
 def initial_state(p: np.ndarray) -> np.ndarray:
