@@ -1,3 +1,5 @@
+import json
+
 import numpy as np
 import pytest
 import torch
@@ -224,3 +226,36 @@ def test_the_residual_form_starts_from_the_physics_response(toy_data):
     stages = model.predict_stages(gm[20:])
     shift = model.output_normalizer_.mean
     np.testing.assert_allclose(stages.operator_output, stages.z + shift, rtol=0, atol=1e-9)
+
+
+def test_predict_takes_a_numpy_array_with_its_dt(toy_data):
+    structure, gm, u = toy_data
+    model = cp.compose(structure=structure, preprocessor="toy-linear", operator="toy-operator")
+    model.fit(gm[:8], u[:8], validation=(gm[8:12], u[8:12]), epochs=1, progress=None)
+    mean, _ = model.predict(gm[20:])
+    from_array, _ = model.predict(gm.acceleration[20:], dt=gm.dt)
+    np.testing.assert_array_equal(from_array, mean)
+    one, _ = model.predict(gm.acceleration[20], dt=gm.dt)
+    np.testing.assert_array_equal(one, mean[:1])
+    with pytest.raises(cp.InputError, match="needs its time step: predict\\(accelerations, dt="):
+        model.predict(gm.acceleration[20:])
+    with pytest.raises(cp.InputError, match="GroundMotions or a NumPy array .* not str"):
+        model.predict("record.AT2")
+
+
+def test_loading_a_model_whose_plugin_is_missing_names_the_distribution(toy_data, tmp_path):
+    structure, gm, u = toy_data
+    model = cp.compose(structure=structure, preprocessor="toy-linear", operator="toy-operator")
+    model.fit(gm[:8], u[:8], validation=(gm[8:12], u[8:12]), epochs=1, progress=None)
+    model.save(tmp_path / "m")
+    saved = json.loads((tmp_path / "m" / "model.json").read_text())
+    assert saved["providers"]["structure"] == "(registered in code)"
+    saved["providers"]["structure"] = "cphysfno-toys 1.2.0"
+    saved["structure"]["name"] = "retired-building"
+    (tmp_path / "m" / "model.json").write_text(json.dumps(saved))
+    with pytest.raises(
+        cp.PluginError,
+        match="structure 'retired-building' of cphysfno-toys "
+        "1.2.0, which is not installed here: pip install cphysfno-toys",
+    ):
+        cp.CompositeModel.load(tmp_path / "m")

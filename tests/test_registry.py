@@ -133,3 +133,10 @@ def test_the_readme_lists_every_registered_component(capsys):
     printed = capsys.readouterr().out.strip()
     assert readme[start:end].strip() == printed
     assert printed.count("\n") - 1 == len(cp.get_registry().entries())
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as done:
+        main(["--version"])
+    assert done.value.code == 0
+    assert capsys.readouterr().out.strip() == f"cphysfno {cp.__version__}"

@@ -6,6 +6,7 @@ import argparse
 import json
 import sys
 import time
+from importlib import metadata
 from pathlib import Path
 
 from ..api.registry import Registry, get_registry
@@ -167,6 +168,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="cphysfno",
         description="Composite physics-neural operators for seismic response prediction.",
+    )
+    parser.add_argument(
+        "--version", action="version", version=f"cphysfno {metadata.version('cphysfno-core')}"
     )
     commands = parser.add_subparsers(dest="command", required=True)
     plugins = commands.add_parser("plugins", help="list registered components by kind")

@@ -353,12 +353,15 @@ class CompositeModel:
 
     def predict_stages(
         self,
-        motions: GroundMotions,
+        motions: GroundMotions | np.ndarray,
         z: np.ndarray | None = None,
         *,
         precision: Precision = "float32",
+        dt: float | None = None,
     ) -> Prediction:
-        """Every stage of the prediction for ``motions`` (z may be given precomputed).
+        """Every stage of the prediction for ``motions`` (z may be given precomputed):
+        :class:`GroundMotions`, or a NumPy array ``[n, T]`` (or ``[T]``) of ground
+        accelerations in m/s^2 with its time step ``dt`` in s.
 
         The operator runs on chunks of :data:`PREDICT_CHUNK` records whose inputs are built
         one chunk at a time; beyond the returned arrays, memory use does not grow with the
@@ -368,9 +371,11 @@ class CompositeModel:
         normalisers and refiner stay in float64 or float32 as always.
 
         Raises:
-            InputError: ``precision`` is neither ``"float32"`` nor ``"bfloat16"``.
+            InputError: ``precision`` is neither ``"float32"`` nor ``"bfloat16"``;
+                ``motions`` are neither ground motions nor an array with its ``dt``.
         """
         self._check_fitted()
+        motions = as_ground_motions(motions, dt)
         self._check_grid(motions)
         warn_extrapolation(motions, getattr(self, "training_pga_", None), self.label)
         if self.preprocessor is not None and z is None:
@@ -393,11 +398,15 @@ class CompositeModel:
         return Prediction(z, operator_output, mean, std)
 
     def predict(
-        self, motions: GroundMotions, *, precision: Precision = "float32"
+        self,
+        motions: GroundMotions | np.ndarray,
+        *,
+        precision: Precision = "float32",
+        dt: float | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Predicted displacement ``(mean, std)``, each ``[n, T, dof]`` in m; ``precision``
-        as in :meth:`predict_stages`."""
-        stages = self.predict_stages(motions, precision=precision)
+        """Predicted displacement ``(mean, std)``, each ``[n, T, dof]`` in m; ``motions``,
+        ``precision`` and ``dt`` as in :meth:`predict_stages`."""
+        stages = self.predict_stages(motions, precision=precision, dt=dt)
         return stages.mean, stages.std
 
     def save(self, directory: str | Path) -> Path:
@@ -415,3 +424,29 @@ class CompositeModel:
             DatasetError: a tampered, truncated or foreign file.
         """
         return load_model(directory, cls)
+
+
+def as_ground_motions(motions: GroundMotions | np.ndarray, dt: float | None) -> GroundMotions:
+    """``motions`` as :class:`GroundMotions`: given so, or made from an array of
+    accelerations (m/s^2) and its ``dt`` (s).
+
+    Raises:
+        InputError: anything else, or an array without ``dt``, with what to pass instead.
+    """
+    if isinstance(motions, GroundMotions):
+        if dt is not None and not np.isclose(dt, motions.dt):
+            raise InputError(f"dt = {dt} s given for ground motions of dt = {motions.dt} s")
+        return motions
+    if isinstance(motions, np.ndarray | list):
+        if dt is None:
+            raise InputError(
+                "an array of ground accelerations needs its time step: "
+                "predict(accelerations, dt=0.01) with accelerations [n_records, n_steps] in "
+                "m/s^2, or pass cphysfno_core.GroundMotions(accelerations, dt)"
+            )
+        return GroundMotions(np.atleast_2d(np.asarray(motions, dtype=np.float64)), dt)
+    raise InputError(
+        f"predict takes cphysfno_core.GroundMotions or a NumPy array [n_records, n_steps] of "
+        f"accelerations in m/s^2 with dt=..., not {type(motions).__name__}; to read records "
+        "from files use cphysfno_core.model.prediction_files.read_motions"
+    )

@@ -19,7 +19,7 @@ from ..api.interfaces import format_validation_error
 from ..api.registry import get_registry
 from ..config.experiment import FormulationConfig, TrainingConfig
 from ..signals import TimeGrid
-from ..signals.errors import DatasetError
+from ..signals.errors import DatasetError, PluginError
 from .training import Normalizer, TrainingHistory
 
 FORMAT = "cphysfno-composite"
@@ -53,6 +53,10 @@ class SavedModel(BaseModel):
     history: dict[str, Any] = Field(default_factory=dict)
     grid: SavedGrid | None = None
     training_pga: tuple[float, float] | None = None
+    providers: dict[str, str] = Field(
+        default_factory=dict,
+        description="kind -> the distribution (name and version) that provided the part",
+    )
 
     @field_validator("structure", "preprocessor", "refiner", "operator")
     @classmethod
@@ -66,6 +70,27 @@ def _spec_of(component: Any) -> dict[str, Any] | None:
     if component is None:
         return None
     return {"name": component.name, **component.get_params()}
+
+
+def _providers(model: Any) -> dict[str, str]:
+    """Kind -> the distribution (``"name version"``) that registered each part of
+    ``model``, as the registry knows it."""
+    registry = get_registry()
+    parts = {
+        "structure": model.structure,
+        "preprocessor": model.preprocessor,
+        "operator": model.operator_,
+        "refiner": model.refiner,
+    }
+    found = {}
+    for kind, part in parts.items():
+        if part is None:
+            continue
+        try:
+            found[kind] = registry.entry(kind, part.name).distribution
+        except LookupError:
+            continue
+    return found
 
 
 def save_model(model: Any, directory: str | Path) -> Path:
@@ -93,6 +118,7 @@ def save_model(model: Any, directory: str | Path) -> Path:
         "history": model.history_.to_dict(),
         "grid": None if model.grid is None else dataclasses.asdict(model.grid),
         "training_pga": getattr(model, "training_pga_", None),
+        "providers": _providers(model),
     }
     arrays = {
         "input_mean": model.input_normalizer_.mean,
@@ -135,7 +161,20 @@ def load_model(directory: str | Path, factory: Callable[..., Any]) -> Any:
         if spec is None:
             return None
         spec = dict(spec)
-        return registry.create(kind, spec.pop("name"), **spec)
+        name = spec.pop("name")
+        try:
+            cls = registry.get(kind, name)
+        except LookupError as error:
+            provider = saved.providers.get(kind)
+            if provider is None:
+                raise
+            distribution = provider.split(" ")[0]
+            raise PluginError(
+                f"{directory} needs the {kind} '{name}' of {provider}, which is not installed "
+                f"here: pip install {distribution} (or pip install -e plugins/{distribution} "
+                f"from a cphysfno checkout) ({error})"
+            ) from None
+        return cls(**spec)
 
     operator = build("operator", saved.operator)
     try:
