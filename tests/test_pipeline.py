@@ -1,4 +1,5 @@
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -285,3 +286,26 @@ def test_a_model_cannot_be_built_to_choose(toy_registry):
             operator="toy-operator",
             formulation={"residual": "choose"},
         )
+
+
+def test_quiet_shows_no_progress_and_verbose_shows_the_plugins_log(
+    toy_registry, tmp_path, capsys, monkeypatch
+):
+    import logging
+
+    config = _config(tmp_path)
+    assert main(["-q", "generate", str(config), "--out", str(tmp_path / "quiet")]) == 0
+    assert capsys.readouterr().err == ""
+    assert "CPHYSFNO_QUIET" not in os.environ  # put back after the command
+    original = pipeline.generate_dataset
+
+    def log_from_a_plugin(*args, **kwargs):
+        logging.getLogger("cphysfno_toys.runner").info("record 1 of 1 simulated")
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(pipeline, "generate_dataset", log_from_a_plugin)
+    assert main(["generate", str(config), "--out", str(tmp_path / "plain")]) == 0
+    plain = capsys.readouterr().err
+    assert "generating" in plain and "record 1 of 1" not in plain
+    assert main(["-v", "generate", str(config), "--out", str(tmp_path / "loud")]) == 0
+    assert "cphysfno_toys.runner: record 1 of 1 simulated" in capsys.readouterr().err

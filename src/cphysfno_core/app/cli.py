@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
+import os
 import sys
 import time
+from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
 
@@ -14,6 +17,7 @@ from ..config.allocator import tune_memory
 from ..config.experiment import load_config
 from ..config.precision import PRECISIONS
 from ..signals.errors import CphysfnoError
+from ..signals.progress import QUIET, show_progress
 
 
 def components_markdown(registry: Registry) -> str:
@@ -96,7 +100,7 @@ def _stage(args: argparse.Namespace) -> int:
         print("relative L2 error per output (test split):")
         print(format_table(evaluation.metrics, names))
         print(f"\nmetrics: {out / 'metrics.json'}\nreport:  {out / 'report.md'}")
-    print(f"done in {time.perf_counter() - started:.1f} s", file=sys.stderr)
+    show_progress(f"done in {time.perf_counter() - started:.1f} s")
     return 0
 
 
@@ -116,7 +120,7 @@ def _study(args: argparse.Namespace) -> int:
     seeds = len(summary["seeds"])
     _print_means(summary, f"{seeds} seed" + ("s" if seeds != 1 else ""))
     print(f"\nsummary: {out / 'study.json'}\nreport:  {report}")
-    print(f"done in {time.perf_counter() - started:.1f} s", file=sys.stderr)
+    show_progress(f"done in {time.perf_counter() - started:.1f} s")
     return 0
 
 
@@ -168,6 +172,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="cphysfno",
         description="Composite physics-neural operators for seismic response prediction.",
+    )
+    parser.add_argument(
+        "-v",
+        "--verbose",
+        action="count",
+        default=0,
+        help="also show the library's and the plugins' log messages (-vv: debugging detail)",
+    )
+    parser.add_argument(
+        "-q", "--quiet", action="store_true", help="show only errors: no progress lines"
     )
     parser.add_argument(
         "--version", action="version", version=f"cphysfno {metadata.version('cphysfno-core')}"
@@ -250,8 +264,42 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def configure_output(verbose: int, quiet: bool) -> Callable[[], None]:
+    """Where the library's messages go: progress lines unless ``quiet`` (also in the worker
+    processes, through ``CPHYSFNO_QUIET``); log records of the package and its plugins
+    (e.g. the OpenSees plugin's per-record progress) at WARNING, INFO with ``-v``, DEBUG
+    with ``-vv``, ERROR only with ``-q``.
+
+    Returns:
+        A function that puts everything back as it was.
+    """
+    before = os.environ.get(QUIET)
+    if quiet:
+        os.environ[QUIET] = "1"
+    levels = [logging.WARNING, logging.INFO, logging.DEBUG]
+    level = logging.ERROR if quiet else levels[min(verbose, 2)]
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(name)s: %(message)s"))
+    handler.addFilter(lambda record: record.name.startswith("cphysfno"))
+    root = logging.getLogger()
+    root_level = root.level
+    root.addHandler(handler)
+    root.setLevel(level)
+
+    def restore() -> None:
+        root.removeHandler(handler)
+        root.setLevel(root_level)
+        if before is None:
+            os.environ.pop(QUIET, None)
+        else:
+            os.environ[QUIET] = before
+
+    return restore
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    restore = configure_output(args.verbose, args.quiet)
     tune_memory()
     try:
         return args.func(args)
@@ -265,6 +313,8 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 130
+    finally:
+        restore()
 
 
 if __name__ == "__main__":

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -25,11 +24,7 @@ from ..model.training import resolve_device
 from ..reporting import against_physics, metrics
 from ..reporting.evaluation import Evaluation, interval_coverage_scores, metric_row
 from ..signals.errors import DatasetError
-
-
-def say(message: str) -> None:
-    """One line of progress on standard error."""
-    print(message, file=sys.stderr, flush=True)
+from ..signals.progress import show_progress
 
 
 def model_labels(config: ExperimentConfig) -> list[str]:
@@ -51,7 +46,7 @@ def model_labels(config: ExperimentConfig) -> list[str]:
 def generate(config: ExperimentConfig, out: str | Path) -> Path:
     """Stage 1: simulate the dataset into ``out/dataset.h5``."""
     out = Path(out)
-    say(f"generating {config.data.n_records} records into {out / DATASET}")
+    show_progress(f"generating {config.data.n_records} records into {out / DATASET}")
     return generate_dataset(config, out / DATASET)
 
 
@@ -101,12 +96,12 @@ def train(
         directory = out / MODELS / model.label
         checkpoint = out / MODELS / f"{model.label}.checkpoint.pt"
         if resume and (directory / "model.json").exists() and not checkpoint.exists():
-            say(f"{model.label} is trained already")
+            show_progress(f"{model.label} is trained already")
             model = CompositeModel.load(directory).to(config.training.device)
         else:
             precision = config.training.precision
             arithmetic = "" if precision == "float32" else f", in {precision}"
-            say(
+            show_progress(
                 f"training {model.label} ({config.training.epochs} epochs, "
                 f"{train_gm.n_records} records{arithmetic})"
             )
@@ -191,7 +186,7 @@ def evaluate(
         results[label]["device"] = model.history_.device
     worse = against_physics.shortfalls(results, list(data.output_names))
     for line in against_physics.describe_shortfalls(worse):
-        say(f"warning: {line}")
+        show_progress(f"warning: {line}")
     chosen = against_physics.chosen_forms(results)
     document = {
         "models": results,

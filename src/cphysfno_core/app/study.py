@@ -37,6 +37,7 @@ from ..data.executors import run_tasks
 from ..data.layout import DATASET, MODELS
 from ..model.training import resolve_device
 from ..signals.errors import ConfigError
+from ..signals.progress import show_progress
 from . import pipeline
 
 RUNS = "runs"
@@ -159,11 +160,11 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
     todo = [(n, run) for n, run in enumerate(runs, start=1) if not _finished(run)]
     if jobs == 1:
         for number, run in todo:
-            pipeline.say(f"study run {number}/{len(runs)}: {_describe(run)}")
+            show_progress(f"study run {number}/{len(runs)}: {_describe(run)}")
             execute_run(run, dataset, report=run.folder == report_run)
     else:
         threads = max(1, (os.cpu_count() or 1) // jobs)
-        pipeline.say(
+        show_progress(
             f"{len(todo)} of {len(runs)} study runs left, {jobs} at a time with {threads} "
             f"thread{'s' if threads > 1 else ''} each; each writes its progress to "
             f"<run folder>/{LOG}"
@@ -173,7 +174,7 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
 
             def finished(key: int, seconds: float, batch=batch) -> None:
                 number, run = batch[key]
-                pipeline.say(
+                show_progress(
                     f"study run {number}/{len(runs)} finished in {seconds:.0f} s: {_describe(run)}"
                 )
 
@@ -242,7 +243,7 @@ def _copy_models(run: Run) -> None:
         source, target = models / label, run.folder / MODELS / label
         finished = (source / "model.json").exists()
         if finished and not (models / f"{label}.checkpoint.pt").exists() and not target.exists():
-            pipeline.say(f"{label}: the same training as {run.shares.name} of the table, copied")
+            show_progress(f"{label}: the same training as {run.shares.name} of the table, copied")
             shutil.copytree(source, target)
 
 

@@ -17,7 +17,6 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,7 +31,7 @@ from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig
 from ..signals import GroundMotions
 from ..signals.errors import ConfigError, DatasetError
-from ..signals.progress import time_left
+from ..signals.progress import show_progress, time_left
 from .datasets import SPLITS, check_dataset_identity, dataset_hash, parts_folder, versions
 from .executors import run_tasks
 from .simulation import ChunkResult, simulate_chunk
@@ -215,7 +214,7 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     identity = dataset_hash(config)
     if check_dataset_identity(path, identity):
         if progress:
-            print(f"dataset {path} is complete: nothing to simulate", file=sys.stderr)
+            show_progress(f"dataset {path} is complete: nothing to simulate")
         return path
     registry = get_registry()
     structure = registry.create("structure", config.structure.name, **config.structure.params)
@@ -227,10 +226,7 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     bounds = [(s, min(s + chunk, n)) for s in range(0, n, chunk)]
     todo = [i for i in range(len(bounds)) if not _chunk_path(parts, i).exists()]
     if progress and len(todo) < len(bounds):
-        print(
-            f"  resuming: {len(bounds) - len(todo)} of {len(bounds)} chunks already done",
-            file=sys.stderr,
-        )
+        show_progress(f"  resuming: {len(bounds) - len(todo)} of {len(bounds)} chunks already done")
     _simulate_chunks(config, structure, motions, bounds, todo, parts, progress)
     _assemble(config, structure, motions, bounds, parts, path, identity)
     shutil.rmtree(parts)
@@ -268,7 +264,7 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
             )
         for index, cause in failures.items():
             if progress:
-                print(f"  record {index} skipped: {cause}", file=sys.stderr, flush=True)
+                show_progress(f"  record {index} skipped: {cause}")
         arrays = {"u": result.u, "failures": np.array(json.dumps(failures))}
         arrays.update({f"z/{name}": values for name, values in result.z.items()})
         arrays.update({f"extras/{name}": values for name, values in result.extras.items()})
@@ -276,7 +272,7 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
         finished += stop - start
         if progress:
             line = progress_line(finished, total, time.perf_counter() - started)
-            print(f"  simulated {line}", file=sys.stderr, flush=True)
+            show_progress(f"  simulated {line}")
 
     def arguments(i: int) -> tuple[Any, ...]:
         return structure_spec, pp_specs, motions.rows(*bounds[i]), motions.dt

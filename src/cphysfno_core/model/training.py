@@ -8,7 +8,6 @@ from __future__ import annotations
 import copy
 import os
 import platform
-import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -21,7 +20,7 @@ from ..config.allocator import tune_memory
 from ..config.experiment import TrainingConfig
 from ..config.precision import operator_precision
 from ..signals.errors import ConfigError, DatasetError, InputError
-from ..signals.progress import time_left
+from ..signals.progress import show_progress, time_left
 
 FUSED_ADAM_DEVICES = ("cpu", "cuda")
 """Device types on which Adam runs fused (one kernel over all parameters) when every
@@ -167,7 +166,7 @@ def print_progress(report: EpochReport) -> None:
         f"val {report.val_loss:.4f}  lr {report.learning_rate:.2e}  "
         f"{report.seconds:.1f}s{mark}{left}"
     )
-    print(line.rstrip(), file=sys.stderr, flush=True)
+    show_progress(line.rstrip())
 
 
 def save_checkpoint(path: str | Path, state: dict) -> None:

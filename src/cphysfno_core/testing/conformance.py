@@ -57,7 +57,8 @@ def _check_response(component: Any, values: np.ndarray, shape: tuple, what: str)
 
 def check_structure(structure: Structure) -> None:
     """Shapes and units of ``simulate``, any T, at rest stays at rest, determinism,
-    elastic periods, and each capability it claims."""
+    elastic periods, and each capability it claims, including that the capabilities
+    describe the physics of ``simulate`` (:func:`~.physics.check_linear_physics`)."""
     names = structure.output_names
     if not names or len(names) != structure.n_outputs:
         raise _fail(structure, "output_names must name every output")
