@@ -36,8 +36,8 @@ from pathlib import Path
 import numpy as np
 from cphysfno_ground_motions.errors import GroundMotionWarning
 from cphysfno_opensees.sac9.analysis import SolverConfig, analyse_record, peak_drift_ratio
-from cphysfno_opensees.sac9.structure import Sac9Frame
 from cphysfno_opensees.sac9.phases import elastic_start
+from cphysfno_opensees.sac9.structure import Sac9Frame
 
 import cphysfno_core as cp
 from cphysfno_core.config.experiment import load_config

@@ -46,6 +46,7 @@ class LinearShearBuilding(cp.Structure):
     """
 
     name = "benchmark-linear-shear-building"
+    capabilities = frozenset({"linear_system"})
 
     class Params(cp.Params):
         floor_mass_kg: float = Field(3.0e4, gt=0)

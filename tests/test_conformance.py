@@ -67,6 +67,28 @@ class DriftingStructure(toy_components.ToyStructure):
         return cp.Responses(responses.displacement + 1e-3, responses.dt)
 
 
+def _oscillators(structure):
+    """The toy structure's two independent unit-mass oscillators as a linear system."""
+    w = 2 * np.pi * np.asarray(structure.params.frequencies_hz)
+    return cp.LinearSystem(np.eye(2), np.diag(0.04 * w), np.diag(w**2), [1.0, 1.0], np.eye(2))
+
+
+class UndeclaredLinearSystem(toy_components.ToyStructure):
+    """Defines linear_system() without declaring it."""
+
+    name = "undeclared"
+
+    def linear_system(self):
+        return _oscillators(self)
+
+
+class DeclaredRestoringForce(toy_components.ToyStructure):
+    """Declares restoring_force without defining it."""
+
+    name = "declared-only"
+    capabilities = frozenset({"restoring_force"})
+
+
 class ForgetfulRefiner(toy_components.ToyRefiner):
     """Saves nothing of what it learned."""
 
@@ -147,6 +169,16 @@ class FrozenZeroOperator(toy_components.ToyOperator):
     "check, component, message",
     [
         (testing.check_structure, DriftingStructure(), "drifting: a structure at rest"),
+        (
+            testing.check_structure,
+            UndeclaredLinearSystem(),
+            "undeclared: defines linear_system\\(\\) but does not declare 'linear_system'",
+        ),
+        (
+            testing.check_structure,
+            DeclaredRestoringForce(),
+            "declared-only: declares 'restoring_force' but does not define restoring_force",
+        ),
         (testing.check_refiner, ForgetfulRefiner(), "forgetful: a state_dict round trip"),
         (testing.check_operator, FixedLengthOperator, "fixed-length: output shape"),
         (testing.check_operator, Float32OnlyOperator, "float32-only: fails under torch.autocast"),
@@ -182,3 +214,25 @@ def test_an_operator_without_a_linear_layer_cannot_start_at_zero():
 
     with pytest.raises(cp.CapabilityError, match="spectral-only.*override"):
         Spectral(3, 1).zero_output_()
+
+
+def test_an_unknown_capability_fails_when_the_class_is_made():
+    with pytest.raises(TypeError, match="unknown capabilities \\['linear_systems'\\]"):
+
+        class Misspelt(toy_components.ToyStructure):
+            capabilities = frozenset({"linear_systems"})
+
+
+def test_a_linear_system_brings_an_equivalent_one():
+    class Declared(toy_components.ToyStructure):
+        name = "declared"
+        capabilities = frozenset({"linear_system"})
+
+        def linear_system(self):
+            return _oscillators(self)
+
+    structure = Declared()
+    assert structure.capabilities == {"linear_system", "equivalent_linear_system"}
+    assert structure.equivalent_linear_system() is not None
+    with pytest.raises(cp.CapabilityError, match="equivalent_linear_system"):
+        toy_components.ToyStructure().equivalent_linear_system()

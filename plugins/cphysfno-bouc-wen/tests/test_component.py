@@ -16,8 +16,9 @@ def test_registry_builds_it_by_name() -> None:
     assert building.params.damping_ratio == 0.02
     entry = cphysfno_core.get_registry().entry("structure", "bouc-wen-shear-building")
     assert entry.distribution.startswith("cphysfno-bouc-wen")
-    assert building.capabilities() == {
+    assert building.capabilities == {
         "linear_system",
+        "equivalent_linear_system",
         "restoring_force",
         "coarse_simulation",
         "projected_simulation",

@@ -105,14 +105,14 @@ def test_a_coarse_step_shorter_than_the_motion_is_refused(frame):
         frame.simulate(small_motions(), dt=0.001)
 
 
-def test_modal_reduction_fails_at_fit_naming_restoring_force(frame):
+def test_modal_reduction_fails_at_fit_naming_what_is_missing(frame):
     modal = cp.create("preprocessor", "modal")
-    with pytest.raises(cp.CapabilityError, match="restoring_force"):
+    with pytest.raises(cp.CapabilityError, match="modal.*linear_system"):
         modal.fit(frame)
 
 
-def test_linear_system_is_the_pushover_shear_building(frame):
-    system = frame.linear_system()
+def test_equivalent_linear_system_is_the_pushover_shear_building(frame):
+    system = frame.equivalent_linear_system()
     k = frame.pushover().story_stiffness
     assert np.allclose(np.diag(system.stiffness, 1), -k[1:])
     assert np.allclose(np.diag(system.mass), frame.pushover().masses)
@@ -139,7 +139,7 @@ def test_the_pushover_travels_with_reports_as_json_and_figure(frame, tmp_path):
 def test_a_pushover_too_short_to_yield_is_an_error():
     short = Sac9Frame(model="hinges", pushover_drift=0.002)
     with pytest.raises(PushoverError, match="stayed elastic"):
-        short.linear_system()
+        short.equivalent_linear_system()
 
 
 def test_els_by_name_is_close_to_the_frame_at_small_amplitude(frame):
@@ -151,3 +151,11 @@ def test_els_by_name_is_close_to_the_frame_at_small_amplitude(frame):
     # the shear building holds the frame's first mode (its period within 1 %) but not its
     # flexural higher modes: measured 0.14 (level 2) down to 0.03 (level 8) on this record.
     assert error.max() < 0.2
+
+
+def test_the_frame_has_no_exact_linear_system_of_its_own(frame):
+    """Its linear system is an equivalent one (the pushover's shear building), which ELS
+    uses; what needs the frame's own linear system is refused with the reason."""
+    assert frame.capabilities == {"equivalent_linear_system", "coarse_simulation"}
+    with pytest.raises(cp.CapabilityError, match="linear_system.*equivalent_linear_system"):
+        frame.linear_system()

@@ -97,6 +97,7 @@ class ToyBuilding(Structure):
     """
 
     name = "toy-building"
+    capabilities = frozenset({"linear_system", "restoring_force", "coarse_simulation"})
     masses = np.array([2.0e3, 2.0e3, 1.5e3])
     story_stiffness = np.array([4.0e6, 3.0e6, 2.0e6])
     influence = np.ones(3)
@@ -130,9 +131,6 @@ class ToyBuilding(Structure):
             np.linalg.eigvals(np.linalg.solve(np.diag(self.masses), self.stiffness_matrix())).real
         )
         return (2 * np.pi / np.sqrt(omega2))[:n]
-
-    def supports_coarse_simulation(self) -> bool:
-        return True
 
     def simulate(self, motions: GroundMotions, *, dt: float | None = None) -> Responses:
         if dt is not None:
@@ -168,16 +166,15 @@ class ToyWithoutRestoringForce(ToyBuilding):
     """The toy building with only a linear system and fine-grid simulation."""
 
     name = "toy-without-restoring-force"
+    capabilities = frozenset({"linear_system"})
     restoring_force = Structure.restoring_force
-
-    def supports_coarse_simulation(self) -> bool:
-        return False
 
 
 class ToyWithoutLinearSystem(ToyBuilding):
     """The toy building that exposes no linear system."""
 
     name = "toy-without-linear-system"
+    capabilities = frozenset({"restoring_force", "coarse_simulation"})
     linear_system = Structure.linear_system
 
 

@@ -87,16 +87,49 @@ class RestoringForce(Protocol):
         """``[n, n_states]`` time derivative of the internal state."""
 
 
+CAPABILITIES: dict[str, str] = {
+    "linear_system": "linear_system(): the structure's own linear elastic system, which its "
+    "response follows at small amplitude",
+    "equivalent_linear_system": "equivalent_linear_system(): a linear system that stands in "
+    "for the structure (every structure with a linear_system has one: that system)",
+    "restoring_force": "restoring_force(): the nonlinear restoring force with its state",
+    "coarse_simulation": "simulate(motions, dt=coarser): the response on a coarser grid",
+    "projected_simulation": "simulate_projected(motions, basis): the Galerkin-projected model",
+}
+"""The optional capabilities of a structure, by name, with what each one provides."""
+
+IMPLIED_CAPABILITIES = {"linear_system": "equivalent_linear_system"}
+"""Capabilities that come with another one."""
+
+
 class Structure(Component, ABC):
     """The high-fidelity nonlinear model that makes the training data.
 
-    Capabilities beyond :meth:`simulate` and :meth:`periods` are optional (``linear_system``,
-    ``restoring_force``, ``coarse_simulation``, ``projected_simulation``); a structure
-    that lacks one raises :class:`CapabilityError` from it, and :meth:`capabilities`
-    lists those it has.
+    Capabilities beyond :meth:`simulate` and :meth:`periods` are optional (see
+    :data:`CAPABILITIES`). A structure declares those it has, once, in the class attribute
+    :attr:`capabilities`; a capability it lacks raises :class:`CapabilityError` from its
+    method, and ``cphysfno_core.testing.check_structure`` checks that the declaration, the
+    methods and the physics agree.
+
+    Attributes:
+        capabilities: the names of the capabilities the class provides (those implied by
+            another, see :data:`IMPLIED_CAPABILITIES`, are added).
     """
 
     kind = "structure"
+    capabilities: ClassVar[frozenset[str]] = frozenset()
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        declared = frozenset(cls.capabilities)
+        unknown = sorted(declared - CAPABILITIES.keys())
+        if unknown:
+            raise TypeError(
+                f"{cls.__name__} declares unknown capabilities {unknown}; known: "
+                f"{', '.join(CAPABILITIES)}"
+            )
+        implied = {IMPLIED_CAPABILITIES[c] for c in declared if c in IMPLIED_CAPABILITIES}
+        cls.capabilities = declared | implied
 
     @property
     @abstractmethod
@@ -124,16 +157,22 @@ class Structure(Component, ABC):
         """First ``n`` (default all) elastic natural periods in s, longest first."""
 
     def linear_system(self) -> LinearSystem:
-        """M, C, elastic K, influence vector and output map of the linear representation."""
+        """M, C, elastic K, influence vector and output map of the structure's own linear
+        system, which its response follows at small amplitude (capability
+        ``linear_system``)."""
         raise self.missing("linear_system")
+
+    def equivalent_linear_system(self) -> LinearSystem:
+        """A linear system that stands in for the structure, e.g. for the ELS preprocessor
+        (capability ``equivalent_linear_system``): :meth:`linear_system` unless the
+        structure defines another (e.g. one fitted to a pushover)."""
+        if "linear_system" in self.capabilities:
+            return self.linear_system()
+        raise self.missing("equivalent_linear_system")
 
     def restoring_force(self) -> RestoringForce:
         """The nonlinear restoring force with its internal state, for modal projection."""
         raise self.missing("restoring_force")
-
-    def supports_coarse_simulation(self) -> bool:
-        """Whether :meth:`simulate` accepts a coarser ``dt`` than the motion's."""
-        return False
 
     def simulate_projected(
         self, motions: GroundMotions, basis: np.ndarray, *, substeps: int | None = None
@@ -159,22 +198,10 @@ class Structure(Component, ABC):
         """
         raise self.missing("projected_simulation")
 
-    def capabilities(self) -> frozenset[str]:
-        """The optional capabilities this structure provides."""
-        found = set()
-        for capability in ("linear_system", "restoring_force"):
-            if getattr(type(self), capability) is not getattr(Structure, capability):
-                found.add(capability)
-        if type(self).simulate_projected is not Structure.simulate_projected:
-            found.add("projected_simulation")
-        if self.supports_coarse_simulation():
-            found.add("coarse_simulation")
-        return frozenset(found)
-
     def missing(self, capability: str, needed_by: str = "") -> CapabilityError:
         """The error to raise when ``capability`` is asked of a structure that lacks it."""
         who = f"{needed_by} needs" if needed_by else "this use needs"
-        have = ", ".join(sorted(self.capabilities())) or "none"
+        have = ", ".join(sorted(self.capabilities)) or "none"
         return CapabilityError(
             f"{who} structure '{self.name}' to provide {capability}, which it does not "
             f"(its capabilities: {have}); choose another component or structure"
@@ -182,7 +209,7 @@ class Structure(Component, ABC):
 
     def require(self, capability: str, needed_by: str) -> None:
         """Raise :class:`CapabilityError` naming both parties unless ``capability`` is here."""
-        if capability not in self.capabilities():
+        if capability not in self.capabilities:
             raise self.missing(capability, needed_by)
 
     def write_artifacts(self, directory: Path) -> list[Path]:

@@ -27,6 +27,7 @@ from ..api.interfaces import (
 )
 from ..signals import GroundMotions, LinearSystem, Responses
 from ..signals.errors import CapabilityError, CphysfnoError, NotFittedError
+from .physics import check_linear_physics
 
 
 def _fail(component: Any, message: str) -> AssertionError:
@@ -82,7 +83,8 @@ def check_structure(structure: Structure) -> None:
         raise _fail(structure, f"periods(2) must be positive seconds, got {periods}")
     if (np.diff(structure.periods()) > 0).any():
         raise _fail(structure, "periods() must list the longest period first")
-    capabilities = structure.capabilities()
+    _check_declared_capabilities(structure)
+    capabilities = structure.capabilities
     if "linear_system" in capabilities:
         system = structure.linear_system()
         if not isinstance(system, LinearSystem):
@@ -96,6 +98,36 @@ def check_structure(structure: Structure) -> None:
         n_coarse = int(np.ceil(motions.duration / (3 * motions.dt) - 1e-9)) + 1
         shape = (motions.n_records, n_coarse, structure.n_outputs)
         _check_response(structure, coarse.displacement, shape, "coarse displacement")
+    check_linear_physics(structure)
+
+
+CAPABILITY_METHODS = {
+    "linear_system": "linear_system",
+    "restoring_force": "restoring_force",
+    "projected_simulation": "simulate_projected",
+}
+"""Capabilities provided by overriding one method of :class:`Structure`."""
+
+
+def _check_declared_capabilities(structure: Structure) -> None:
+    """A capability is declared in ``capabilities`` exactly where its method is defined."""
+    declared = structure.capabilities
+    for capability, method in CAPABILITY_METHODS.items():
+        defined = getattr(type(structure), method) is not getattr(Structure, method)
+        if defined and capability not in declared:
+            raise _fail(
+                structure,
+                f"defines {method}() but does not declare '{capability}' in its capabilities",
+            )
+        if capability in declared and not defined:
+            raise _fail(structure, f"declares '{capability}' but does not define {method}()")
+    own = type(structure).equivalent_linear_system is not Structure.equivalent_linear_system
+    if "equivalent_linear_system" in declared and "linear_system" not in declared and not own:
+        raise _fail(
+            structure,
+            "declares 'equivalent_linear_system' but defines neither linear_system() nor "
+            "equivalent_linear_system()",
+        )
 
 
 def _expect(component: Any, error: type[BaseException], call, *args: Any) -> None:

@@ -83,6 +83,7 @@ class DuffingChain(Structure):
     """
 
     name = "duffing-chain"
+    capabilities = frozenset({"linear_system", "restoring_force"})
     Params = DuffingChainParams
 
     @property

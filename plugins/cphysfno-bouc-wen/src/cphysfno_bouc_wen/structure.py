@@ -93,6 +93,9 @@ class BoucWenShearBuilding(Structure):
 
     name = "bouc-wen-shear-building"
     Params = BoucWenShearBuildingParams
+    capabilities = frozenset(
+        {"linear_system", "restoring_force", "coarse_simulation", "projected_simulation"}
+    )
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -265,6 +268,3 @@ class BoucWenShearBuilding(Structure):
     def restoring_force(self) -> BoucWenRestoringForce:
         """The Bouc-Wen floor forces ``A_f^T r(A_f u, h)`` and the rate of ``h``."""
         return BoucWenRestoringForce(self._model)
-
-    def supports_coarse_simulation(self) -> bool:
-        return True

@@ -52,6 +52,7 @@ class OpenSeesStructure(Structure):
     """
 
     Params = OpenSeesParams
+    capabilities = frozenset({"coarse_simulation"})
 
     @abstractmethod
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
@@ -102,13 +103,10 @@ class OpenSeesStructure(Structure):
         failures = {int(moving[i]): cause for i, cause in failures.items()}
         return Responses(u, motions.dt, failures=failures)
 
-    def supports_coarse_simulation(self) -> bool:
-        return True
-
     def periods(self, n: int | None = None) -> np.ndarray:
         """First ``n`` (default all) elastic periods in s, longest first, from the
-        ``(K, M)`` of :meth:`linear_system`."""
-        system = self.linear_system()
+        ``(K, M)`` of :meth:`equivalent_linear_system`."""
+        system = self.equivalent_linear_system()
         if n is None:
             n = system.n_dof
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or not 1 <= n <= system.n_dof:

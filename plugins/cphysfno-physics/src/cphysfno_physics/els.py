@@ -26,7 +26,7 @@ class EquivalentLinear(PhysicsPreprocessor):
     """
 
     name = "els"
-    requires = frozenset({"linear_system"})
+    requires = frozenset({"equivalent_linear_system"})
 
     class Params(cphysfno_core.Params):
         stiffness_scale: float = Field(
@@ -34,9 +34,10 @@ class EquivalentLinear(PhysicsPreprocessor):
         )
 
     def fit(self, structure: Structure) -> EquivalentLinear:
-        """Take M, C and s K from ``structure`` (capability ``linear_system``)."""
+        """Take M, C and s K from the structure's equivalent linear system (its
+        ``linear_system`` where it has one)."""
         self.check(structure)
-        system = structure.linear_system()
+        system = structure.equivalent_linear_system()
         scale = self.params.stiffness_scale
         self.system_ = dataclasses.replace(system, stiffness=scale * system.stiffness)
         return self

@@ -87,7 +87,7 @@ class ModalReduction(PhysicsPreprocessor):
         """``[n_records, n_steps, n_outputs]`` reduced-model displacements in m."""
         check_fitted(self, "shapes_")
         n_sub = self.substeps_for(motions.dt)
-        if "projected_simulation" in self.structure_.capabilities():
+        if "projected_simulation" in self.structure_.capabilities:
             projected = self.structure_.simulate_projected(motions, self.shapes_, substeps=n_sub)
             return projected.displacement
         ag = motions.acceleration

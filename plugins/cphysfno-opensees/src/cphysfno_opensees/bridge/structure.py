@@ -95,6 +95,7 @@ class AuburnRavineBridge(OpenSeesStructure):
 
     name = "auburn-ravine-bridge"
     Params = AuburnRavineBridgeParams
+    capabilities = frozenset({"linear_system", "coarse_simulation"})
 
     @property
     def output_names(self) -> tuple[str, ...]:

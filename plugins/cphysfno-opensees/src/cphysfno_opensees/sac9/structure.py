@@ -94,6 +94,7 @@ class Sac9Frame(OpenSeesStructure):
 
     name = "sac9-frame"
     Params = Sac9FrameParams
+    capabilities = frozenset({"equivalent_linear_system", "coarse_simulation"})
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -173,7 +174,7 @@ class Sac9Frame(OpenSeesStructure):
         plot_pushover(curve, figure)
         return [document, figure]
 
-    def linear_system(self) -> LinearSystem:
+    def equivalent_linear_system(self) -> LinearSystem:
         """The paper's equivalent linear system: the shear building of the pushover's
         elastic story stiffnesses (N/m) and the floor masses (kg), Rayleigh damped with
         ``damping_ratio`` in its modes 1 and 3; influence ones, identity output map."""
