@@ -13,7 +13,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from ..config.experiment import DataConfig
-from ..signals.errors import ConfigError
+from ..signals.errors import ConfigError, check_main_guard
 
 
 def _windowed(
@@ -100,6 +100,7 @@ def run_tasks(
         return
     window = 2 * workers
     if settings.executor == "processes":
+        check_main_guard("simulating the records on local processes (data.executor)")
         context = multiprocessing.get_context("spawn")
         with concurrent.futures.ProcessPoolExecutor(
             max_workers=min(workers, len(keys)), mp_context=context

@@ -13,9 +13,11 @@ from .errors import (
     DatasetError,
     ExtrapolationWarning,
     InputError,
+    MainGuardError,
     NotFittedError,
     PluginError,
     RegistryError,
+    check_main_guard,
 )
 from .histories import GroundMotions, Responses, TimeGrid, check_finite, check_time_step
 from .intensity import (
@@ -41,6 +43,7 @@ __all__ = [
     "ExtrapolationWarning",
     "GroundMotions",
     "InputError",
+    "MainGuardError",
     "LinearSystem",
     "NotFittedError",
     "PluginError",
@@ -51,6 +54,7 @@ __all__ = [
     "SpectrumBand",
     "TimeGrid",
     "check_finite",
+    "check_main_guard",
     "check_time_step",
     "oscillator_displacement",
     "peak_ground_acceleration",

@@ -28,7 +28,7 @@ from multiprocessing.connection import Connection, wait
 
 import numpy as np
 
-from cphysfno_core import InputError, PluginError
+from cphysfno_core import InputError, PluginError, check_main_guard
 
 from .transient import AnalysisFailed
 
@@ -76,6 +76,9 @@ def run_records(
             Also when called in a daemonic process, which may not start workers (a Dask
             worker started with ``distributed.worker.daemon: true``); the message says how
             to configure the workers.
+        MainGuardError: called from the top-level code of a script, which every worker
+            would run again (the message says to put it under ``if __name__ ==
+            "__main__":``).
     """
     if multiprocessing.current_process().daemon:
         raise PluginError(
@@ -84,6 +87,7 @@ def run_records(
             "DASK_DISTRIBUTED__WORKER__DAEMON=False, or `dask worker --no-nanny`); "
             "cphysfno's own LocalCluster already does"
         )
+    check_main_guard(f"{description or 'the OpenSees analysis'}")
     acceleration = np.asarray(acceleration, dtype=np.float64)
     if acceleration.ndim != 2:
         raise InputError(f"acceleration must be [n_records, n_steps], got {acceleration.shape}")
