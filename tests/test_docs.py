@@ -30,6 +30,10 @@ def test_site_builds_in_strict_mode(tmp_path):
     config_page = (tmp_path / "site" / "reference" / "config" / "index.html").read_text()
     assert "bouc-wen-shear-building" in config_page and "learning_rate" in config_page
     assert "group_by" in config_page and "ground_motion_input" in config_page
+    cli_page = (tmp_path / "site" / "reference" / "cli" / "index.html").read_text()
+    for command in ("plugins", "run", "generate", "train", "evaluate", "predict", "study"):
+        assert f"cphysfno {command}</code>" in cli_page
+    assert "--verbose" in cli_page and "--markdown" in cli_page
     results = (tmp_path / "site" / "benchmarks" / "index.html").read_text()
     assert "Benchmark results" in results and "Reliability" in results
     examples = (tmp_path / "site" / "results" / "index.html").read_text()

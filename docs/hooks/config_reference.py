@@ -7,6 +7,7 @@ from typing import Any
 
 from mkdocs.structure.files import File
 
+from cphysfno_core.api import KINDS
 from cphysfno_core.api.registry import get_registry
 from cphysfno_core.config import experiment as config_module
 
@@ -46,7 +47,7 @@ def render() -> str:
     for title, model in SECTIONS:
         lines += [f"## {title}", "", (model.__doc__ or "").strip(), "", *_table(model), ""]
     registry = get_registry()
-    for kind in ("structure", "ground_motion", "preprocessor", "operator", "refiner"):
+    for kind in (k.name for k in KINDS):
         lines += [f"## [{kind}] components", ""]
         for entry in registry.entries(kind):
             summary = (entry.cls.__doc__ or "").strip().splitlines()[0]
