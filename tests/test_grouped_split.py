@@ -168,3 +168,30 @@ def test_a_record_without_the_key_is_named(stations_registry, tmp_path):
     assert "of ground motion 'toy-stations' has no 'station' in its metadata" in message
     assert "(it has: component)" in message
     assert not list(tmp_path.rglob("*.npy*"))
+
+
+def test_every_record_keeps_its_provenance_and_every_array_its_units(
+    stations_registry, tmp_path, capsys
+):
+    """Reordered by group, each row of the dataset still carries the metadata of the record
+    in that row (the station is also written into the record's first sample)."""
+    from cphysfno_core.app.cli import main
+
+    path = tmp_path / "data.h5"
+    generation.generate_dataset(_config(), path, progress=False)
+    dataset = cp.load_dataset(path)
+    assert len(dataset.provenance) == dataset.ag.shape[0] == 12
+    for row, record in enumerate(dataset.provenance):
+        assert record["station"] == f"S{int(dataset.ag[row, 0])}"
+        assert record["source"] == "toy-stations" and record["dt"] == 0.02
+    assert sorted(r["draw"] for r in dataset.provenance) == list(range(12))
+    import h5py
+
+    with h5py.File(path) as f:
+        assert f["ag"].attrs["units"] == "m/s^2" and f["u"].attrs["units"] == "m"
+        assert "displacement relative to the ground" in f["u"].attrs["description"]
+    assert main(["inspect", str(path), "--records", "2"]) == 0
+    printed = capsys.readouterr().out
+    assert "[m/s^2] ground acceleration" in printed and "[m] displacement" in printed
+    assert "provenance of 2 of 12 records:" in printed
+    assert f'"station": "{dataset.provenance[1]["station"]}"' in printed

@@ -31,6 +31,12 @@ def test_predictions_are_the_models_and_the_summary_is_printed(saved, tmp_path, 
     assert "4 records predicted in" in printed and "ms per record" in printed
     peak = np.median(np.abs(stages.mean[:, :, 0]).max(axis=1))
     assert f"{peak:.4g}" in printed
+    assert main(["inspect", str(out)]) == 0
+    described = capsys.readouterr().out
+    assert f"predictions of model '{model.label}'" in described
+    mean_row = next(line for line in described.splitlines() if line.strip().startswith("mean "))
+    assert str(stages.mean.shape) in mean_row
+    assert "[m] predicted displacement" in described and "[s] time step" in described
 
 
 def test_a_bare_array_with_its_step_and_records_on_another_grid_with_on_grid(

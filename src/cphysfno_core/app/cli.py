@@ -32,6 +32,13 @@ def components_markdown(registry: Registry) -> str:
     return "\n".join(lines)
 
 
+def _inspect(args: argparse.Namespace) -> int:
+    from .inspection import describe_file
+
+    print(describe_file(args.file, records=args.records))
+    return 0
+
+
 def _plugins(args: argparse.Namespace) -> int:
     registry = get_registry()
     by_kind: dict[str, list] = {}
@@ -193,6 +200,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--markdown", action="store_true", help="a Markdown table, as in the README"
     )
     plugins.set_defaults(func=_plugins)
+    inspect = commands.add_parser(
+        "inspect", help="what a dataset.h5 or prediction .npz holds: arrays, units, records"
+    )
+    inspect.add_argument("file", help="a dataset.h5 or a prediction .npz")
+    inspect.add_argument(
+        "--records", type=int, default=5, help="records whose provenance is shown (default 5)"
+    )
+    inspect.set_defaults(func=_inspect)
     stages = {
         "run": "generate data, train every model, evaluate and write the report",
         "generate": "simulate the dataset (resumes an interrupted run)",

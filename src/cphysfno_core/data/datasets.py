@@ -40,6 +40,8 @@ class Dataset:
         sizes: records in the train, val and test splits, in this order in the file.
         failures: record index -> cause, for records whose simulation failed; they are
             left out of every split.
+        provenance: one mapping per record: its source, draw, time step and the source's
+            metadata (event, station, RSN, scale factor, ...); empty for older files.
     """
 
     ag: np.ndarray
@@ -50,6 +52,7 @@ class Dataset:
     output_names: tuple[str, ...]
     sizes: dict[str, int]
     failures: dict[int, str] = field(default_factory=dict)
+    provenance: tuple[dict, ...] = ()
 
     def rows(self, split: str) -> np.ndarray:
         """The record indices of ``split`` (``train``, ``val`` or ``test``), failed records
@@ -118,6 +121,53 @@ def parts_folder(path: Path) -> Path:
     return path.with_name(path.name + ".parts")
 
 
+EXTRA_UNITS = {"story_drift": "m", "story_shear": "N"}
+"""Units of the extra channels the built-in structures simulate."""
+
+
+def array_descriptions(output_names: list[str]) -> dict[str, tuple[str, str]]:
+    """Array path -> ``(units, description)`` of the arrays every dataset holds."""
+    outputs = ", ".join(output_names)
+    return {
+        "ag": ("m/s^2", "ground acceleration [record, sample], linear between samples"),
+        "u": ("m", f"displacement relative to the ground [record, sample, output]: {outputs}"),
+        "records": (
+            "",
+            "provenance of each record (JSON: source, draw, dt, the source's "
+            "metadata such as event, station, RSN and scale factor)",
+        ),
+    }
+
+
+def describe_arrays(f: h5py.File, output_names: list[str]) -> None:
+    """Give every array of the open dataset ``f`` its ``units`` and ``description``."""
+    known = array_descriptions(output_names)
+    for name in f.get("z", {}):
+        known[f"z/{name}"] = (
+            "m",
+            f"physics response z of preprocessor '{name}' [record, "
+            "sample, output], on the records' own grid",
+        )
+    for name in f.get("extras", {}):
+        units = EXTRA_UNITS.get(name, "as the structure defines it")
+        known[f"extras/{name}"] = (
+            units,
+            f"extra channel '{name}' of the structure's "
+            "simulation [record, sample, channel], float32",
+        )
+    for path, (units, description) in known.items():
+        if path in f:
+            f[path].attrs["units"] = units
+            f[path].attrs["description"] = description
+
+
+def read_provenance(f: h5py.File) -> tuple[dict, ...]:
+    """The ``records`` provenance of the open dataset ``f`` (empty for older files)."""
+    if "records" not in f:
+        return ()
+    return tuple(json.loads(text) for text in f["records"].asstr()[...])
+
+
 def check_dataset_identity(path: Path, identity: str) -> bool:
     """True if ``path`` is a complete dataset of this identity (False if there is none
     yet); raise DatasetError if it belongs to another configuration or is unreadable."""
@@ -162,6 +212,7 @@ def load_dataset(path: str | Path) -> Dataset:
                 output_names=tuple(json.loads(f.attrs["output_names"])),
                 sizes={s: int(f.attrs[f"n_{s}"]) for s in SPLITS},
                 failures={int(k): v for k, v in json.loads(f.attrs.get("failures", "{}")).items()},
+                provenance=read_provenance(f),
             )
     except (OSError, KeyError) as error:
         raise DatasetError(f"{path} is not a cphysfno dataset: {error}") from None

@@ -32,7 +32,14 @@ from ..config.experiment import DataConfig, ExperimentConfig
 from ..signals import GroundMotions
 from ..signals.errors import ConfigError, DatasetError
 from ..signals.progress import show_progress, time_left
-from .datasets import SPLITS, check_dataset_identity, dataset_hash, parts_folder, versions
+from .datasets import (
+    SPLITS,
+    check_dataset_identity,
+    dataset_hash,
+    describe_arrays,
+    parts_folder,
+    versions,
+)
 from .executors import run_tasks
 from .simulation import ChunkResult, simulate_chunk
 from .splits import grouped_order
@@ -73,6 +80,18 @@ class _StoredMotions:
     n_steps: int
     dt: float
 
+    @property
+    def provenance_path(self) -> Path:
+        """The JSON list beside the records: where each record comes from."""
+        return self.path.with_name("records.json")
+
+    def provenance(self) -> list[dict]:
+        """One mapping per record: its source, its draw and the source's metadata (event,
+        station, scale factor, ...); empty for a run started before they were kept."""
+        if not self.provenance_path.exists():
+            return []
+        return json.loads(self.provenance_path.read_text())
+
     def rows(self, start: int, stop: int) -> np.ndarray:
         """A copy of records ``start:stop``; the file's pages are released afterwards."""
         mapped = np.load(self.path, mmap_mode="r")
@@ -91,7 +110,7 @@ def _sample_into(source: GroundMotionSource, data: DataConfig, target: Path) -> 
     rng = np.random.default_rng(data.seed)
     temporary = target.with_name(f".{target.name}.tmp")
     try:
-        stored, groups = _draw(source, data, rng, temporary)
+        stored, groups, provenance = _draw(source, data, rng, temporary)
         if data.group_by is not None:
             sizes = (data.n_train, data.n_val, data.n_test)
             try:
@@ -99,21 +118,26 @@ def _sample_into(source: GroundMotionSource, data: DataConfig, target: Path) -> 
             except ConfigError as error:
                 raise ConfigError(f"data.group_by = '{data.group_by}': {error}") from None
             _reorder(temporary, order)
+            provenance = [provenance[i] for i in order]
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
+    result = _StoredMotions(target, stored.n_records, stored.n_steps, stored.dt)
+    document = json.dumps(provenance, default=str)
+    _write_atomic(result.provenance_path, lambda path: path.write_text(document))
     os.replace(temporary, target)
-    return _StoredMotions(target, stored.n_records, stored.n_steps, stored.dt)
+    return result
 
 
 def _draw(
     source: GroundMotionSource, data: DataConfig, rng: np.random.Generator, temporary: Path
-) -> tuple[_StoredMotions, list[str]]:
+) -> tuple[_StoredMotions, list[str], list[dict]]:
     """The sampling loop of :func:`_sample_into`: the records written to ``temporary`` in
-    the order drawn, and the ``data.group_by`` key of each (empty without one)."""
+    the order drawn, the ``data.group_by`` key of each (empty without one) and the
+    provenance of each (its source, draw, time step and the source's metadata)."""
     n = data.n_records
     block = SAMPLE_BLOCK if source.independent_draws else n
-    written, stored, groups = 0, None, []
+    written, stored, groups, provenance = 0, None, [], []
     while written < n:
         wanted = min(block, n - written)
         motions = source.sample(wanted, rng)[:wanted]
@@ -128,6 +152,11 @@ def _draw(
             )
         if data.group_by is not None:
             groups += _group_keys(motions, data.group_by, source.name, first=written)
+        for i in range(motions.n_records):
+            metadata = motions.metadata[i] if motions.metadata else {}
+            provenance.append(
+                {"source": source.name, "draw": written + i, "dt": motions.dt, **metadata}
+            )
         mapped = np.lib.format.open_memmap(temporary, mode="r+")
         mapped[written : written + motions.n_records] = motions.acceleration
         mapped.flush()
@@ -140,7 +169,7 @@ def _draw(
             f"ground motion '{source.name}' gave {written} records but the data section asks "
             f"for {n} (n_train + n_val + n_test): lower the split sizes"
         )
-    return stored, groups
+    return stored, groups, provenance
 
 
 def _group_keys(motions: GroundMotions, key: str, source: str, first: int) -> list[str]:
@@ -302,6 +331,8 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> None
             f.create_dataset("u", shape=shape, dtype="f8")
             for pp in config.preprocessor:
                 f.create_dataset(f"z/{pp.name}", shape=shape, dtype="f8")
+            provenance = [json.dumps(p, default=str) for p in motions.provenance()]
+            f.create_dataset("records", data=provenance, dtype=h5py.string_dtype())
             for i, (start, stop) in enumerate(bounds):
                 with np.load(_chunk_path(parts, i), allow_pickle=False) as chunk:
                     for key in chunk.files:
@@ -313,6 +344,7 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> None
                             f.create_dataset(key, shape=(shape[0], *values.shape[1:]), dtype="f4")
                         f[key][start:stop] = values
             f.attrs["failures"] = json.dumps(failures)
+            describe_arrays(f, list(structure.output_names))
             f.attrs["complete"] = True
 
     _write_atomic(path, write)

@@ -9,6 +9,7 @@ C-Phys model, ``dt`` and ``output_names``.
 
 from __future__ import annotations
 
+import json
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +20,17 @@ from ..config.precision import Precision
 from ..signals import GroundMotions
 from ..signals.errors import DatasetError, InputError
 from .composite import CompositeModel
+
+PREDICTION_ARRAYS = {
+    "mean": ["m", "predicted displacement [record, sample, output] (refined mean)"],
+    "std": ["m", "its standard deviation [record, sample, output]"],
+    "operator_output": ["m", "the neural operator's prediction before refinement"],
+    "z": ["m", "the physics response z the operator started from"],
+    "dt": ["s", "time step of the records"],
+    "output_names": ["", "names of the outputs, in the order of the last axis"],
+}
+"""Units and description of each array of a prediction file; the file holds them as JSON
+in its ``descriptions`` entry, with the label of the model that predicted."""
 
 
 def read_motions(path: str | Path, dt: float | None = None) -> GroundMotions:
@@ -116,6 +128,8 @@ def predict_file(
     }
     if stages.z is not None:
         arrays["z"] = stages.z
+    described = {k: v for k, v in PREDICTION_ARRAYS.items() if k in arrays}
+    arrays["descriptions"] = np.array(json.dumps({**described, "model": model.label}))
     out.parent.mkdir(parents=True, exist_ok=True)
     np.savez(out, **arrays)
     peaks = np.median(np.abs(stages.mean).max(axis=1), axis=0)

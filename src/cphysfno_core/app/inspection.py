@@ -1,0 +1,73 @@
+"""``cphysfno inspect FILE``: what a dataset or a prediction file holds, in words."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from ..data.datasets import read_provenance
+from ..signals.errors import DatasetError
+
+
+def describe_file(path: str | Path, records: int = 5) -> str:
+    """Every array of ``path`` (a ``dataset.h5`` or a prediction ``.npz``) with its shape,
+    dtype, units and description; for a dataset also its attributes and the provenance of
+    its first ``records`` records.
+
+    Raises:
+        DatasetError: the file is missing or neither kind.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DatasetError(f"{path}: no such file")
+    if path.suffix == ".npz":
+        return _describe_predictions(path)
+    try:
+        with h5py.File(path, "r") as f:
+            return _describe_dataset(path, f, records)
+    except OSError as error:
+        raise DatasetError(f"{path} is neither an HDF5 dataset nor an .npz file: {error}") from None
+
+
+def _describe_dataset(path: Path, f: h5py.File, records: int) -> str:
+    lines = [f"{path}: cphysfno dataset", ""]
+    for key in ("dt", "seed", "n_train", "n_val", "n_test", "complete"):
+        if key in f.attrs:
+            lines.append(f"  {key}: {f.attrs[key]}")
+    failures = json.loads(f.attrs.get("failures", "{}"))
+    lines += [f"  failed records: {len(failures)}", ""]
+    arrays: list[tuple[str, h5py.Dataset]] = []
+    f.visititems(
+        lambda name, item: arrays.append((name, item)) if isinstance(item, h5py.Dataset) else None
+    )
+    for name, item in arrays:
+        units = item.attrs.get("units", "(not recorded)")
+        description = item.attrs.get("description", "")
+        lines.append(
+            f"  {name:<22} {str(item.shape):<20} {item.dtype!s:<8} [{units}] {description}"
+        )
+    provenance = read_provenance(f)
+    lines += ["", f"provenance of {min(records, len(provenance))} of {len(provenance)} records:"]
+    lines += [f"  {i}: {json.dumps(p)}" for i, p in enumerate(provenance[:records])]
+    return "\n".join(lines)
+
+
+def _describe_predictions(path: Path) -> str:
+    with np.load(path, allow_pickle=False) as stored:
+        descriptions = json.loads(str(stored["descriptions"])) if "descriptions" in stored else {}
+        lines = [
+            f"{path}: predictions of model '{descriptions.get('model', '(not recorded)')}'",
+            "",
+        ]
+        for name in stored.files:
+            if name == "descriptions":
+                continue
+            value = stored[name]
+            units, description = descriptions.get(name, ["(not recorded)", ""])
+            lines.append(
+                f"  {name:<16} {str(value.shape):<20} {value.dtype!s:<8} [{units}] {description}"
+            )
+    return "\n".join(lines)
