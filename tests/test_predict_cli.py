@@ -109,3 +109,48 @@ def test_bfloat16_precision_is_passed_through(saved, tmp_path):
         single = model.predict_stages(gm).operator_output
         change = np.linalg.norm(written["operator_output"] - single) / np.linalg.norm(single)
     assert 1e-5 < change < 1e-2
+
+
+def _at2(path, values_g, dt):
+    """A PEER NGA-West2 AT2 file of ``values_g`` (g) at ``dt`` (s)."""
+    lines = [
+        "PEER NGA STRONG MOTION DATABASE RECORD",
+        "Imperial Valley-06, 10/15/1979, El Centro Array #6, 230",
+        "ACCELERATION TIME SERIES IN UNITS OF G",
+        f"NPTS=  {len(values_g)}, DT=   {dt:.4f} SEC",
+    ]
+    lines += [
+        "".join(f"  {v: .7E}" for v in values_g[i : i + 5]) for i in range(0, len(values_g), 5)
+    ]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_at2_files_and_folders_are_predicted(saved, tmp_path, capsys):
+    """PEER AT2 input: one file, or a folder whose records are zero-padded to the longest;
+    records of another time step need --on-grid."""
+    model, folder, gm = saved
+    g = 9.80665
+    records = tmp_path / "records"
+    records.mkdir()
+    first = gm.acceleration[0] / g
+    _at2(records / "A.AT2", first, gm.dt)
+    _at2(records / "B.at2", gm.acceleration[1][:40] / g, gm.dt)
+    out = tmp_path / "at2.npz"
+    assert main(["predict", str(folder), str(records / "A.AT2"), "--out", str(out)]) == 0
+    with np.load(out) as written:
+        expected = model.predict(gm[:1])[0]
+        np.testing.assert_allclose(written["mean"], expected, rtol=1e-5, atol=1e-9)
+    assert main(["predict", str(folder), str(records), "--out", str(out)]) == 0
+    padded = gm.acceleration[:2].copy()
+    padded[1, 40:] = 0.0
+    with np.load(out) as written:
+        expected = model.predict(padded, dt=gm.dt)[0]
+        np.testing.assert_allclose(written["mean"], expected, rtol=1e-5, atol=1e-9)
+    _at2(records / "C.AT2", first, gm.dt / 2)
+    capsys.readouterr()
+    assert main(["predict", str(folder), str(records), "--out", str(out)]) == 2
+    assert "different time steps" in capsys.readouterr().err
+    assert main(["predict", str(folder), str(records), "--out", str(out), "--on-grid"]) == 0
+    with np.load(out) as written:
+        assert written["mean"].shape == (3, *model.predict(gm[:1])[0].shape[1:])

@@ -3,10 +3,9 @@ error naming the file."""
 
 import numpy as np
 from cphysfno_core import DatasetError
+from cphysfno_core.signals.at2 import read_at2
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-from cphysfno_ground_motions.at2 import read_at2
 
 HEADER = (
     "PEER NGA STRONG MOTION DATABASE RECORD\nEvent, 1/1/2000, Station, 090\n"

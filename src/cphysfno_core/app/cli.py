@@ -251,7 +251,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     predict = commands.add_parser("predict", help=text, description=text)
     predict.add_argument("model", help="a saved model's folder, e.g. runs/x/models/<label>")
-    predict.add_argument("motions", help=".npz (acceleration, dt) or .npy file")
+    predict.add_argument(
+        "motions",
+        help="a PEER .AT2 file or a folder of them, an .npz (acceleration, dt) or an .npy "
+        "file (with --dt)",
+    )
     predict.add_argument("--out", required=True, help=".npz file to write")
     predict.add_argument("--dt", type=float, help="time step of a .npy file, s")
     predict.add_argument(

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config.precision import Precision
-from ..signals import GroundMotions
+from ..signals import GroundMotions, TimeGrid, read_at2
 from ..signals.errors import DatasetError, InputError
 from .composite import CompositeModel
 
@@ -33,21 +33,71 @@ PREDICTION_ARRAYS = {
 in its ``descriptions`` entry, with the label of the model that predicted."""
 
 
-def read_motions(path: str | Path, dt: float | None = None) -> GroundMotions:
-    """Ground motions from ``path``: ``.npz`` with ``acceleration`` and ``dt``, or ``.npy``
-    with ``dt`` given here (s).
+def read_motions(
+    path: str | Path, dt: float | None = None, grid: TimeGrid | None = None
+) -> GroundMotions:
+    """Ground motions from ``path``: a PEER ``.AT2`` file or a folder of them (in g, read
+    into m/s^2, each record's header kept as its metadata), ``.npz`` with ``acceleration``
+    and ``dt``, or ``.npy`` with ``dt`` given here (s).
+
+    AT2 records of different lengths are zero-padded at the end to the longest; records
+    of different time steps need ``grid``, onto which each is then resampled (so does any
+    input with ``grid``).
 
     Raises:
-        DatasetError: the file is missing, unreadable or lacks an array.
-        InputError: ``dt`` is missing for a ``.npy`` file or given twice, or the values
-            are not ground motions (see :class:`GroundMotions`).
+        DatasetError: the file is missing, unreadable or lacks an array; a folder holds no
+            AT2 file.
+        InputError: ``dt`` is missing for a ``.npy`` file or given twice, AT2 records of
+            different time steps without ``grid``, or the values are not ground motions
+            (see :class:`GroundMotions`).
     """
     path = Path(path)
+    if path.is_dir() or path.suffix.lower() == ".at2":
+        return _read_at2_records(path, dt, grid)
+    motions = _read_arrays(path, dt)
+    return motions if grid is None else motions.on_grid(grid)
+
+
+def _read_at2_records(path: Path, dt: float | None, grid: TimeGrid | None) -> GroundMotions:
+    """The AT2 file ``path``, or every AT2 file of the folder ``path`` in name order."""
+    if dt is not None:
+        raise InputError(f"{path}: AT2 files hold their own time step: do not give --dt")
+    files = (
+        sorted(p for p in path.iterdir() if p.suffix.lower() == ".at2") if path.is_dir() else [path]
+    )
+    if not files:
+        raise DatasetError(f"{path}: a folder of ground motions must hold .AT2 files")
+    records = [read_at2(f) for f in files]
+    steps = sorted({r.dt for r in records})
+    if grid is None and len(steps) > 1:
+        raise InputError(
+            f"{path}: the records have different time steps ({', '.join(map(str, steps))} s): "
+            "bring them onto the model's grid (cphysfno predict --on-grid, or "
+            "read_motions(..., grid=model.grid))"
+        )
+    if grid is not None:
+        rows = [
+            GroundMotions(r.acceleration[None, :], r.dt, [r.metadata]).on_grid(grid)
+            for r in records
+        ]
+        return GroundMotions(
+            np.concatenate([m.acceleration for m in rows]), grid.dt, [r.metadata for r in records]
+        )
+    length = max(r.acceleration.size for r in records)
+    ag = np.stack([np.pad(r.acceleration, (0, length - r.acceleration.size)) for r in records])
+    return GroundMotions(ag, steps[0], [r.metadata for r in records])
+
+
+def _read_arrays(path: Path, dt: float | None) -> GroundMotions:
+    """Ground motions from an ``.npz`` or ``.npy`` file (see :func:`read_motions`)."""
     if not path.is_file():
         raise DatasetError(f"{path}: no such file of ground motions")
     suffix = path.suffix.lower()
     if suffix not in (".npz", ".npy"):
-        raise DatasetError(f"{path}: give ground motions as .npz (acceleration, dt) or .npy")
+        raise DatasetError(
+            f"{path}: give ground motions as .AT2 (a file or a folder), .npz (acceleration, "
+            "dt) or .npy"
+        )
     try:
         if suffix == ".npz":
             with np.load(path, allow_pickle=False) as stored:
@@ -111,9 +161,7 @@ def predict_file(
     if out.suffix != ".npz":
         raise InputError(f"--out {out}: name an .npz file")
     model = CompositeModel.load(model_dir).to(device)
-    motions = read_motions(motions_path, dt)
-    if on_grid and model.grid is not None:
-        motions = motions.on_grid(model.grid)
+    motions = read_motions(motions_path, dt, model.grid if on_grid else None)
     started = time.perf_counter()
     stages = model.predict_stages(motions, precision=precision)
     seconds = time.perf_counter() - started

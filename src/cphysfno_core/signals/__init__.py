@@ -5,6 +5,7 @@ A plugin may import from here (``from cphysfno_core.signals import response_spec
 as from ``cphysfno_core`` itself.
 """
 
+from .at2 import read_at2
 from .errors import (
     CapabilityError,
     ConfigError,
@@ -19,7 +20,14 @@ from .errors import (
     RegistryError,
     check_main_guard,
 )
-from .histories import GroundMotions, Responses, TimeGrid, check_finite, check_time_step
+from .histories import (
+    GroundMotions,
+    Record,
+    Responses,
+    TimeGrid,
+    check_finite,
+    check_time_step,
+)
 from .intensity import (
     STANDARD_GRAVITY,
     ResponseSpectrum,
@@ -48,6 +56,7 @@ __all__ = [
     "NotFittedError",
     "PluginError",
     "Rayleigh",
+    "Record",
     "RegistryError",
     "ResponseSpectrum",
     "Responses",
@@ -59,6 +68,7 @@ __all__ = [
     "oscillator_displacement",
     "peak_ground_acceleration",
     "peak_ground_velocity",
+    "read_at2",
     "resample",
     "response_spectrum",
     "same_step",

@@ -194,3 +194,31 @@ class Responses:
     def time(self) -> np.ndarray:
         """``[n_steps]`` sample times in s."""
         return np.arange(self.displacement.shape[1]) * self.dt
+
+
+@dataclass(frozen=True)
+class Record:
+    """A single-component ground acceleration record.
+
+    Attributes:
+        acceleration: ``[T]`` acceleration in m/s^2.
+        dt: time step in s.
+        metadata: what is known of it; the keys this package fills are ``name`` (how
+            messages call the record), ``event``, ``year``, ``magnitude``, ``station``,
+            ``component``, ``mechanism``, ``vs30`` (m/s), ``rjb_km``, ``rrup_km``, ``rsn``
+            (NGA record sequence number), ``file``.
+    """
+
+    acceleration: np.ndarray
+    dt: float
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        """How messages call this record."""
+        return str(self.metadata.get("name", "record"))
+
+    @property
+    def duration(self) -> float:
+        """Length in s (time of the last sample)."""
+        return (self.acceleration.size - 1) * self.dt

@@ -1,7 +1,8 @@
 """Ground-motion sources for cphysfno: white noise, spectrum-compatible synthetic records,
 and recorded ones (FEMA P695 sets, PEER NGA-West2 AT2 files)."""
 
-from .at2 import read_at2
+from cphysfno_core.signals import read_at2
+
 from .errors import GroundMotionWarning
 from .fema import load_fema_p695
 from .flatfile import read_flatfile

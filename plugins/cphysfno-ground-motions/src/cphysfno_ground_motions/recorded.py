@@ -21,9 +21,9 @@ from typing import Literal
 
 import numpy as np
 from cphysfno_core import DatasetError, GroundMotions, GroundMotionSource, InputError, Params
+from cphysfno_core.signals import read_at2
 from pydantic import Field, NonNegativeFloat, PositiveFloat, ValidationInfo, field_validator
 
-from .at2 import read_at2
 from .errors import GroundMotionWarning
 from .fema import FILES, load_fema_p695
 from .flatfile import read_flatfile

@@ -17,10 +17,10 @@ import re
 from pathlib import Path
 
 import numpy as np
-from cphysfno_core import DatasetError
-from cphysfno_core.signals.intensity import STANDARD_GRAVITY
 
-from .record import Record
+from .errors import DatasetError
+from .histories import Record
+from .intensity import STANDARD_GRAVITY
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+)?")
 _NPTS_DT = re.compile(
