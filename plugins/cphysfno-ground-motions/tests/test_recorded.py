@@ -160,6 +160,29 @@ def test_sampling_returns_at_most_what_there_is_and_says_so(library):
     with pytest.warns(GroundMotionWarning, match="asked for 10 records but the folder .* has 6"):
         everything = source.sample(10, np.random.default_rng(4))
     assert sorted(m["set_index"] for m in everything.metadata) == list(range(6))
+    with pytest.warns(GroundMotionWarning, match="set replace = true with a scale_range"):
+        source.sample(10, np.random.default_rng(4))
+
+
+def test_replace_draws_any_number_each_with_its_own_factor(library):
+    folder, flatfile = library
+    settings = dict(folder=folder, flatfile=flatfile, dt=0.005, duration=10.0)
+    plain = Recorded(**settings).all_records
+    source = Recorded(**settings, scale_range=(0.5, 2.0), replace=True)
+    drawn = source.sample(40, np.random.default_rng(1))
+    assert drawn.n_records == 40
+    factors = []
+    for record, meta in zip(drawn.acceleration, drawn.metadata, strict=True):
+        original = plain.acceleration[meta["set_index"]]
+        factor = np.max(np.abs(record)) / np.max(np.abs(original))
+        np.testing.assert_allclose(record, factor * original, rtol=1e-12, atol=1e-15)
+        assert 0.5 <= factor <= 2.0
+        factors.append(factor)
+    assert len(set(np.round(factors, 12))) == 40  # no two draws alike
+    again = source.sample(40, np.random.default_rng(1))
+    np.testing.assert_array_equal(drawn.acceleration, again.acceleration)
+    with pytest.raises(ConfigError, match="replace: .*give it"):
+        cphysfno_core.create("ground_motion", "recorded", **settings, replace=True)
 
 
 @pytest.fixture(scope="module")

@@ -167,7 +167,8 @@ def _draw(
     if written < n:
         raise DatasetError(
             f"ground motion '{source.name}' gave {written} records but the data section asks "
-            f"for {n} (n_train + n_val + n_test): lower the split sizes"
+            f"for {n} (n_train + n_val + n_test): lower the split sizes, or let the source "
+            "give more (a recorded set: replace = true or copies with a scale_range)"
         )
     return stored, groups, provenance
 

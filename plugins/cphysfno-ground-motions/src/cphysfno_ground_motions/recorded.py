@@ -152,6 +152,12 @@ class RecordedParams(Params):
     copies: int = Field(
         1, ge=1, validate_default=True, description="copies of every record, with scale_range"
     )
+    replace: bool = Field(
+        False,
+        validate_default=True,
+        description="draw records with replacement, each draw scaled by its own factor from "
+        "scale_range, so that a finite set gives any number of distinct records",
+    )
 
     @field_validator("folder")
     @classmethod
@@ -221,6 +227,17 @@ class RecordedParams(Params):
         if copies > 1 and "scale_range" in info.data and info.data["scale_range"] is None:
             raise ValueError("copies are scaled by factors drawn from scale_range: give it")
         return copies
+
+    @field_validator("replace")
+    @classmethod
+    def _replace_needs_a_range(cls, replace: bool, info: ValidationInfo) -> bool:
+        if replace and info.data.get("scale_range") is None:
+            raise ValueError(
+                "a record drawn again is scaled by its own factor from scale_range: give it"
+            )
+        if replace and info.data.get("copies", 1) > 1:
+            raise ValueError("replace draws any number of scaled records: leave copies at 1")
+        return replace
 
     @field_validator("duration")
     @classmethod
@@ -328,19 +345,30 @@ class Recorded(GroundMotionSource):
         generator state gives the same records. A copy keeps its record's metadata with
         ``scale_factor`` multiplied, its ``copy`` number, and its own intensity measures.
 
-        Warns (:class:`GroundMotionWarning`) when ``n > m``, naming both.
+        With ``replace``, the ``n`` records are drawn with replacement from the prepared
+        ones, each multiplied by its own factor drawn log-uniformly in ``scale_range``.
+
+        Warns (:class:`GroundMotionWarning`) when ``n > m`` without ``replace``, naming
+        both and the settings that give more.
         """
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise InputError(f"{self.name}: n must be a positive integer, got {n!r}")
         motions = self.all_records
         scale_range, copies = self.params.scale_range, self.params.copies
+        if self.params.replace:
+            rows = rng.integers(0, motions.n_records, size=int(n))
+            factors = log_uniform_factors(int(n), 1, scale_range, rng)[:, 0]
+            return self._scaled(motions, rows, factors, np.zeros(int(n), dtype=int))
         if scale_range is not None:
             factors = log_uniform_factors(motions.n_records, copies, scale_range, rng)
         available = motions.n_records * copies
         if n > available:
             warnings.warn(
                 f"{self.name}: asked for {n} records but the {self.description} has "
-                f"{available} after selection and scaling: returning all {available}",
+                f"{available} after selection and scaling: returning all {available}. For "
+                "more, set replace = true with a scale_range (each record drawn again with "
+                "its own scale factor), or copies = k with a scale_range, or widen the "
+                "selection",
                 GroundMotionWarning,
                 stacklevel=2,
             )
@@ -348,7 +376,14 @@ class Recorded(GroundMotionSource):
         if scale_range is None:
             return motions[drawn]
         rows, copy = np.divmod(drawn, copies)
-        scaled = scaled_copies(motions, rows, factors[rows, copy])
+        return self._scaled(motions, rows, factors[rows, copy], copy)
+
+    def _scaled(
+        self, motions: GroundMotions, rows: np.ndarray, factors: np.ndarray, copy: np.ndarray
+    ) -> GroundMotions:
+        """Records ``rows`` of ``motions`` times ``factors``, with their copy number and
+        intensity measures in their metadata."""
+        scaled = scaled_copies(motions, rows, factors)
         measures = intensity_metadata(scaled.acceleration, scaled.dt)
         metadata = [
             {**meta, "copy": int(j), **measures[k]}
