@@ -24,7 +24,7 @@ from ..api.registry import get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import ComponentSpec, FormulationConfig, TrainingConfig
 from ..config.precision import Precision, operator_precision
-from ..signals import GroundMotions, TimeGrid
+from ..signals import GroundMotions, TimeGrid, as_ground_motions
 from ..signals.errors import (
     ConfigError,
     InputError,
@@ -424,29 +424,3 @@ class CompositeModel:
             DatasetError: a tampered, truncated or foreign file.
         """
         return load_model(directory, cls)
-
-
-def as_ground_motions(motions: GroundMotions | np.ndarray, dt: float | None) -> GroundMotions:
-    """``motions`` as :class:`GroundMotions`: given so, or made from an array of
-    accelerations (m/s^2) and its ``dt`` (s).
-
-    Raises:
-        InputError: anything else, or an array without ``dt``, with what to pass instead.
-    """
-    if isinstance(motions, GroundMotions):
-        if dt is not None and not np.isclose(dt, motions.dt):
-            raise InputError(f"dt = {dt} s given for ground motions of dt = {motions.dt} s")
-        return motions
-    if isinstance(motions, np.ndarray | list):
-        if dt is None:
-            raise InputError(
-                "an array of ground accelerations needs its time step: "
-                "predict(accelerations, dt=0.01) with accelerations [n_records, n_steps] in "
-                "m/s^2, or pass cphysfno_core.GroundMotions(accelerations, dt)"
-            )
-        return GroundMotions(np.atleast_2d(np.asarray(motions, dtype=np.float64)), dt)
-    raise InputError(
-        f"predict takes cphysfno_core.GroundMotions or a NumPy array [n_records, n_steps] of "
-        f"accelerations in m/s^2 with dt=..., not {type(motions).__name__}; to read records "
-        "from files use cphysfno_core.model.prediction_files.read_motions"
-    )

@@ -25,6 +25,7 @@ from .histories import (
     Record,
     Responses,
     TimeGrid,
+    as_ground_motions,
     check_finite,
     check_time_step,
 )
@@ -62,6 +63,7 @@ __all__ = [
     "Responses",
     "SpectrumBand",
     "TimeGrid",
+    "as_ground_motions",
     "check_finite",
     "check_main_guard",
     "check_time_step",
