@@ -114,3 +114,15 @@ def test_motion_spectra_are_drawn_with_and_without_a_target(tmp_path):
     for target in (None, band):
         path = figures.motion_spectra(acceleration, 0.01, tmp_path / "a" / "s.png", target=target)
         assert path.stat().st_size > 1000
+
+
+def test_fourteen_models_each_get_their_own_style(tmp_path):
+    from cphysfno_core.reporting import figures
+
+    styles = figures.model_styles(14)
+    assert len({tuple(sorted(s.items())) for s in styles}) == 14
+    rng = np.random.default_rng(0)
+    truth = rng.uniform(0.01, 0.05, 30)
+    predicted = {f"model-{k}": truth * rng.uniform(0.8, 1.2, 30) for k in range(14)}
+    path = figures.peaks(truth, predicted, "roof", tmp_path / "peaks.png")
+    assert path.stat().st_size > 20_000

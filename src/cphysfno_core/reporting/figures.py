@@ -98,25 +98,70 @@ def refined_band(
     return _save(fig, path)
 
 
+MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
+LINESTYLES = ("-", "--", "-.", ":")
+COLOURS = tuple(f"C{i}" for i in range(10))
+
+
+def model_styles(n: int) -> list[dict[str, str]]:
+    """``n`` distinct styles (colour, marker, line style) for the models of one figure: the
+    ten default colours first, then the same colours with the next marker and line style, so
+    that no two of up to 80 models look alike."""
+    return [
+        {
+            "color": COLOURS[i % len(COLOURS)],
+            "marker": MARKERS[(i // len(COLOURS)) % len(MARKERS)],
+            "linestyle": LINESTYLES[(i // len(COLOURS)) % len(LINESTYLES)],
+        }
+        for i in range(n)
+    ]
+
+
 def peaks(
     true_peak: np.ndarray, predicted_peaks: dict[str, np.ndarray], name: str, path: Path
 ) -> Path:
-    """Scatter of predicted vs true peak |u| across records, and their distributions."""
-    fig, (scatter, hist) = _subplots(1, 2, figsize=(11, 4.2))
+    """Scatter of predicted vs true peak |u| across records, and their distributions; each
+    model in its own colour, marker and line style (:func:`model_styles`)."""
+    many = len(predicted_peaks) > 6
+    fig, (scatter, hist) = _subplots(1, 2, figsize=(13 if many else 11, 4.8 if many else 4.2))
     upper = max([true_peak.max(), *[p.max() for p in predicted_peaks.values()]]) * 1.05
     scatter.plot([0, upper], [0, upper], color="k", lw=0.8)
     bins = np.linspace(0, upper, 30)
     hist.hist(true_peak, bins=bins, density=True, histtype="stepfilled", color="0.8", label="truth")
-    for label, peak in predicted_peaks.items():
-        scatter.scatter(true_peak, peak, s=9, alpha=0.7, label=label)
-        hist.hist(peak, bins=bins, density=True, histtype="step", lw=1.2, label=label)
+    styles = model_styles(len(predicted_peaks))
+    for (label, peak), style in zip(predicted_peaks.items(), styles, strict=True):
+        scatter.scatter(
+            true_peak,
+            peak,
+            s=9,
+            alpha=0.7,
+            color=style["color"],
+            marker=style["marker"],
+            label=label,
+        )
+        hist.hist(
+            peak,
+            bins=bins,
+            density=True,
+            histtype="step",
+            lw=1.2,
+            color=style["color"],
+            linestyle=style["linestyle"],
+            label=label,
+        )
     scatter.set_xlabel(f"true peak |u| {name} (m)")
     scatter.set_ylabel("predicted peak |u| (m)")
     scatter.set_xlim(0, upper)
     scatter.set_ylim(0, upper)
-    scatter.legend(fontsize=7)
     hist.set_xlabel(f"peak |u| {name} (m)")
     hist.set_ylabel("density")
+    if many:  # one legend beside the two panels, in columns
+        handles, labels = scatter.get_legend_handles_labels()
+        fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
+        fig.tight_layout(rect=(0, 0.06 * (1 + len(labels) // 4), 1, 1))
+        fig.savefig(path, dpi=DPI)
+        return path
+    scatter.legend(fontsize=7)
     hist.legend(fontsize=7)
     return _save(fig, path)
 
