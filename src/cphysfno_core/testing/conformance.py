@@ -27,7 +27,7 @@ from ..api.interfaces import (
 )
 from ..signals import GroundMotions, LinearSystem, Responses
 from ..signals.errors import CapabilityError, CphysfnoError, NotFittedError
-from .physics import check_linear_physics
+from .physics import check_linear_physics, smooth_random_motions
 
 
 def _fail(component: Any, message: str) -> AssertionError:
@@ -38,12 +38,7 @@ def small_motions(
     n_records: int = 2, n_steps: int = 301, dt: float = 0.01, peak: float = 0.5, seed: int = 0
 ) -> GroundMotions:
     """Smooth random accelerations (m/s^2) of moderate amplitude for quick checks."""
-    rng = np.random.default_rng(seed)
-    raw = rng.standard_normal((n_records, n_steps))
-    kernel = np.hanning(9)
-    smooth = np.stack([np.convolve(row, kernel / kernel.sum(), mode="same") for row in raw])
-    smooth *= peak / np.max(np.abs(smooth), axis=1, keepdims=True)
-    return GroundMotions(smooth, dt)
+    return smooth_random_motions(n_records, n_steps, dt, peak, seed, window=9)
 
 
 def _check_response(component: Any, values: np.ndarray, shape: tuple, what: str) -> None:

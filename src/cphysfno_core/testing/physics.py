@@ -47,14 +47,22 @@ YIELD_DEVIATION = 0.05
 """Relative L2 from the linear response at which a record is taken to yield the structure."""
 
 
+def smooth_random_motions(
+    n_records: int, n_steps: int, dt: float, peak: float, seed: int, window: int
+) -> GroundMotions:
+    """White noise smoothed by a Hann window of ``window`` samples, each record scaled to
+    ``peak`` (m/s^2); the same for the same arguments."""
+    rng = np.random.default_rng(seed)
+    raw = rng.standard_normal((n_records, n_steps))
+    kernel = np.hanning(window)
+    smooth = np.stack([np.convolve(row, kernel / kernel.sum(), mode="same") for row in raw])
+    smooth *= peak / np.max(np.abs(smooth), axis=1, keepdims=True)
+    return GroundMotions(smooth, dt)
+
+
 def motions(n_steps: int = 501, dt: float = 0.01, n_records: int = 2) -> GroundMotions:
     """Smooth random accelerations of unit peak (m/s^2), 5 s at 0.01 s by default."""
-    rng = np.random.default_rng(7)
-    raw = rng.standard_normal((n_records, n_steps))
-    kernel = np.hanning(7)
-    smooth = np.stack([np.convolve(row, kernel / kernel.sum(), mode="same") for row in raw])
-    smooth /= np.max(np.abs(smooth), axis=1, keepdims=True)
-    return GroundMotions(smooth, dt)
+    return smooth_random_motions(n_records, n_steps, dt, peak=1.0, seed=7, window=7)
 
 
 def linear_response(system: LinearSystem, ground: GroundMotions) -> np.ndarray:
