@@ -17,16 +17,20 @@ The names below are the public API; plugins import only these (or
 
 from .api import (
     GroundMotionSource,
+    LawFunctions,
     NeuralOperator,
     Params,
     PhysicsPreprocessor,
     Refiner,
     Registry,
     RestoringForce,
+    StoryLaw,
     Structure,
     create,
     get_registry,
     hookimpl,
+    per_story,
+    validate_params,
 )
 from .config import (
     ComponentSpec,
@@ -94,6 +98,7 @@ __all__ = [
     "GroundMotionSource",
     "GroundMotions",
     "InputError",
+    "LawFunctions",
     "LinearSystem",
     "MainGuardError",
     "NeuralOperator",
@@ -107,6 +112,7 @@ __all__ = [
     "RegistryError",
     "Responses",
     "RestoringForce",
+    "StoryLaw",
     "Structure",
     "TimeGrid",
     "check_finite",
@@ -115,4 +121,6 @@ __all__ = [
     "create",
     "get_registry",
     "hookimpl",
+    "per_story",
+    "validate_params",
 ]

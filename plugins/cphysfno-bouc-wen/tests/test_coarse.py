@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from cphysfno_core import CphysfnoError, GroundMotions, InputError
 
-import cphysfno_bouc_wen.structure
+import cphysfno_bouc_wen.shear_building
 from cphysfno_bouc_wen import BoucWenShearBuilding
 from cphysfno_bouc_wen.implicit import integrate_gauss
 
@@ -56,7 +56,7 @@ def test_halved_steps_integrate_the_same_equations(
     building, motions, truth, rel_l2, monkeypatch
 ) -> None:
     impatient = functools.partial(integrate_gauss, max_iterations=2)
-    monkeypatch.setattr(cphysfno_bouc_wen.structure, "integrate_gauss", impatient)
+    monkeypatch.setattr(cphysfno_bouc_wen.shear_building, "integrate_gauss", impatient)
     short = GroundMotions(motions.acceleration[:2, :101], 0.01)
     halved = building.simulate(short, dt=0.01).displacement
     error = rel_l2(halved, truth[:2, :101])
@@ -65,7 +65,7 @@ def test_halved_steps_integrate_the_same_equations(
 
 def test_a_record_that_fails_is_named(building, motions, monkeypatch) -> None:
     hopeless = functools.partial(integrate_gauss, max_iterations=1, max_halvings=0)
-    monkeypatch.setattr(cphysfno_bouc_wen.structure, "integrate_gauss", hopeless)
+    monkeypatch.setattr(cphysfno_bouc_wen.shear_building, "integrate_gauss", hopeless)
     with pytest.raises(CphysfnoError, match=r"record 0 at t = 0\.0000 s.*'index': 0"):
         building.simulate(motions[:2], dt=0.3)
 

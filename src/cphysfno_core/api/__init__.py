@@ -10,13 +10,16 @@ from .interfaces import (
     Refiner,
     RestoringForce,
     Structure,
+    validate_params,
 )
 from .kinds import KINDS, Kind
 from .registry import Registry, create, get_registry
+from .story_law import LawFunctions, StoryLaw, per_story
 
 __all__ = [
     "KINDS",
     "Kind",
+    "LawFunctions",
     "GroundMotionSource",
     "NeuralOperator",
     "Params",
@@ -24,8 +27,11 @@ __all__ = [
     "Refiner",
     "Registry",
     "RestoringForce",
+    "StoryLaw",
     "Structure",
     "create",
     "get_registry",
     "hookimpl",
+    "per_story",
+    "validate_params",
 ]

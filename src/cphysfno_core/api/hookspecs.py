@@ -5,7 +5,7 @@ these hooks with ``@cphysfno_core.hookimpl``; each returns a list of component c
 each with a class attribute ``name`` unique within its kind. There is one hook per kind of
 :data:`~cphysfno_core.api.kinds.KINDS`: ``cphysfno_structures``,
 ``cphysfno_ground_motions``, ``cphysfno_preprocessors``, ``cphysfno_operators``,
-``cphysfno_refiners``.
+``cphysfno_refiners``, ``cphysfno_story_laws``.
 """
 
 from __future__ import annotations

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from ..signals.errors import RegistryError
 from .interfaces import GroundMotionSource, NeuralOperator, PhysicsPreprocessor, Refiner, Structure
+from .story_law import StoryLaw
 
 
 @dataclass(frozen=True)
@@ -34,6 +35,7 @@ KINDS: tuple[Kind, ...] = (
     Kind("preprocessor", PhysicsPreprocessor, "cphysfno_preprocessors", "Physics preprocessors"),
     Kind("operator", NeuralOperator, "cphysfno_operators", "Neural operator classes"),
     Kind("refiner", Refiner, "cphysfno_refiners", "Refiner classes"),
+    Kind("story_law", StoryLaw, "cphysfno_story_laws", "Story laws of shear buildings"),
 )
 
 KIND_NAMES: tuple[str, ...] = tuple(kind.name for kind in KINDS)

@@ -8,12 +8,14 @@ from .conformance import (
     check_structure,
     small_motions,
 )
+from .story_law import check_story_law
 
 __all__ = [
     "check_ground_motion_source",
     "check_operator",
     "check_preprocessor",
     "check_refiner",
+    "check_story_law",
     "check_structure",
     "small_motions",
 ]

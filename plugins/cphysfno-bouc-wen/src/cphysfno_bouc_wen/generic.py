@@ -1,0 +1,224 @@
+"""Classical fourth-order Runge-Kutta integration of a shear building with any story law.
+
+The law's compiled functions (:class:`cphysfno_core.LawFunctions`) are inlined into a
+kernel made for them (:func:`rk4_kernel`, one per law, compiled on first use in a
+process). Each record is integrated on its own in float64, records spread over the cores
+in threads; after each Runge-Kutta step the law's ``settle`` corrects the state of every
+story. The ground acceleration is linear between its samples.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numba
+import numpy as np
+from cphysfno_core import LawFunctions
+
+from .chain import StoryChain
+from .native import run_chunks
+
+NODES = np.array([0.0, 0.5, 0.5, 1.0])
+"""Times of the Runge-Kutta stages, as fractions of the step."""
+
+
+def integrate_chain(
+    chain: StoryChain,
+    functions: LawFunctions,
+    n_states: int,
+    ground_acceleration: np.ndarray,
+    dt: float,
+    substeps: int,
+    initial_state: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Response of a building at rest at t = 0 to ground accelerations.
+
+    Args:
+        chain: the (projected) building.
+        functions: the story law's compiled functions.
+        n_states: state variables per story.
+        ground_acceleration: ``[n, T]`` a_g in m/s^2, sampled every ``dt`` s.
+        dt: sample spacing in s.
+        substeps: Runge-Kutta steps per sample interval.
+        initial_state: ``[d, n_states]`` law state at rest (default zeros).
+
+    Returns:
+        Floor displacements, story drifts (m) and story shears (N), each ``[n, T, d]``,
+        and ``[n]`` whether each record stayed finite.
+    """
+    ag = np.ascontiguousarray(ground_acceleration, dtype=np.float64)
+    n_records, n_steps = ag.shape
+    d = chain.drift.shape[0]
+    if initial_state is None:
+        initial_state = np.zeros((d, n_states))
+    displacement, drift, shear = (np.empty((n_records, n_steps, d)) for _ in range(3))
+    finite = np.empty(n_records, dtype=np.bool_)
+    kernel = rk4_kernel(functions, n_states)
+    arrays = tuple(np.ascontiguousarray(a, dtype=np.float64) for a in chain)
+    start = np.ascontiguousarray(initial_state, dtype=np.float64).reshape(d, n_states)
+
+    def run(rows: slice) -> None:
+        kernel(
+            ag[rows],
+            *arrays,
+            start,
+            dt / substeps,
+            substeps,
+            displacement[rows],
+            drift[rows],
+            shear[rows],
+            finite[rows],
+        )
+
+    run_chunks(run, n_records, 1)
+    return displacement, drift, shear, finite
+
+
+@cache
+def rk4_kernel(functions: LawFunctions, n_states: int):
+    """The compiled integrator of a building whose stories follow ``functions``."""
+    force, rate, settle = functions
+    width = max(n_states, 1)
+
+    @numba.njit(nogil=True, error_model="numpy")
+    def rates(y, ag_now, damping, force_map, drift_map, part, coef, out, story_rate, shear):
+        r, d = part.shape[0], drift_map.shape[0]
+        for s in range(d):
+            v = 0.0
+            v_dot = 0.0
+            for j in range(r):
+                v += drift_map[s, j] * y[j]
+                v_dot += drift_map[s, j] * y[r + j]
+            state = y[2 * r + s * width : 2 * r + (s + 1) * width]
+            shear[s] = force(coef[s], v, state)
+            rate(coef[s], v, v_dot, state, story_rate)
+            for m in range(width):
+                out[2 * r + s * width + m] = story_rate[m]
+        for j in range(r):
+            out[j] = y[r + j]
+            acc = -part[j] * ag_now
+            for m in range(r):
+                acc -= damping[j, m] * y[r + m]
+            for s in range(d):
+                acc -= force_map[j, s] * shear[s]
+            out[r + j] = acc
+
+    @numba.njit(nogil=True, error_model="numpy")
+    def sample(y, k, drift_map, floors, coef, disp_out, drift_out, shear_out):
+        r, d = floors.shape[1], floors.shape[0]
+        for s in range(d):
+            u = 0.0
+            v = 0.0
+            for j in range(r):
+                u += floors[s, j] * y[j]
+                v += drift_map[s, j] * y[j]
+            disp_out[k, s] = u
+            drift_out[k, s] = v
+            shear_out[k, s] = force(coef[s], v, y[2 * r + s * width : 2 * r + (s + 1) * width])
+
+    @numba.njit(nogil=True, error_model="numpy")
+    def kernel(
+        ag,
+        damping,
+        force_map,
+        drift_map,
+        part,
+        floors,
+        coef,
+        start,
+        h,
+        substeps,
+        disp_out,
+        drift_out,
+        shear_out,
+        finite_out,
+    ):
+        n_records, n_steps = ag.shape
+        r, d = part.shape[0], drift_map.shape[0]
+        size = 2 * r + d * width
+        y = np.empty(size)
+        stage = np.empty(size)
+        total = np.empty(size)
+        k_rate = np.empty(size)
+        story_rate = np.zeros(width)
+        shear = np.empty(d)
+        for rec in range(n_records):
+            y[:] = 0.0
+            for s in range(d):
+                for m in range(width):
+                    y[2 * r + s * width + m] = start[s, m]
+            sample(y, 0, drift_map, floors, coef, disp_out[rec], drift_out[rec], shear_out[rec])
+            for k in range(n_steps - 1):
+                a0 = ag[rec, k]
+                slope = (ag[rec, k + 1] - a0) / substeps
+                for sub in range(substeps):
+                    a_start = a0 + slope * sub
+                    total[:] = 0.0
+                    stage[:] = y
+                    for i in range(4):
+                        fraction = (0.0, 0.5, 0.5, 1.0)[i]
+                        weight = (1.0, 2.0, 2.0, 1.0)[i] / 6.0
+                        rates(
+                            stage,
+                            a_start + slope * fraction,
+                            damping,
+                            force_map,
+                            drift_map,
+                            part,
+                            coef,
+                            k_rate,
+                            story_rate,
+                            shear,
+                        )
+                        advance = (0.5, 0.5, 1.0, 0.0)[i] * h
+                        for m in range(size):
+                            total[m] += weight * k_rate[m]
+                            stage[m] = y[m] + advance * k_rate[m]
+                    for m in range(size):
+                        y[m] += h * total[m]
+                    for s in range(d):
+                        v = 0.0
+                        for j in range(r):
+                            v += drift_map[s, j] * y[j]
+                        settle(coef[s], v, y[2 * r + s * width : 2 * r + (s + 1) * width])
+                sample(
+                    y,
+                    k + 1,
+                    drift_map,
+                    floors,
+                    coef,
+                    disp_out[rec],
+                    drift_out[rec],
+                    shear_out[rec],
+                )
+            finite = True
+            for m in range(size):
+                finite &= np.isfinite(y[m])
+            finite_out[rec] = finite
+
+    return kernel
+
+
+@cache
+def law_evaluator(functions: LawFunctions, n_states: int):
+    """A compiled ``evaluate(coef [d, n_c], v [n, d], v_dot [n, d], s [n, d, w])`` that
+    returns the story shears ``[n, d]`` (N) and state rates ``[n, d, w]``, ``w`` being
+    ``max(n_states, 1)``."""
+    force, rate, _ = functions
+    width = max(n_states, 1)
+
+    @numba.njit(nogil=True, error_model="numpy")
+    def evaluate(coef, v, v_dot, state):
+        n, d = v.shape
+        shear = np.empty((n, d))
+        rates = np.zeros((n, d, width))
+        out = np.zeros(width)
+        for i in range(n):
+            for s in range(d):
+                shear[i, s] = force(coef[s], v[i, s], state[i, s])
+                out[:] = 0.0
+                rate(coef[s], v[i, s], v_dot[i, s], state[i, s], out)
+                rates[i, s] = out
+        return shear, rates
+
+    return evaluate

@@ -1,0 +1,73 @@
+"""The bilinear story spring with kinematic hardening."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from cphysfno_core import LawFunctions, Params, StoryLaw, per_story
+from pydantic import Field
+
+from .common import LAW_JIT, PerStory, RatioPerStory
+
+
+class BilinearLawParams(Params):
+    """Parameters of :class:`BilinearLaw` (scalars or one value per story)."""
+
+    alpha: RatioPerStory = Field(0.1, description="post-yield to initial stiffness ratio")
+    yield_displacement: PerStory = Field(description="yield drift u_y, m")
+
+
+@numba.njit(**LAW_JIT)
+def bilinear_force(c, v, s):
+    """``F = k [alpha v + (1 - alpha) z]`` (N), ``c = [k, alpha, u_y]``, ``s = [z]`` (m)."""
+    return c[0] * (c[1] * v + (1.0 - c[1]) * s[0])
+
+
+@numba.njit(**LAW_JIT)
+def bilinear_rate(c, v, v_dot, s, out):
+    """``z' = v'`` inside the yield range or moving back into it, else 0 (m/s)."""
+    z = s[0]
+    if abs(z) >= c[2] and z * v_dot > 0.0:
+        out[0] = 0.0
+    else:
+        out[0] = v_dot
+
+
+@numba.njit(**LAW_JIT)
+def bilinear_settle(c, v, s):
+    """Return ``z`` to ``[-u_y, u_y]`` when a step has carried it past."""
+    s[0] = min(max(s[0], -c[2]), c[2])
+
+
+class BilinearLaw(StoryLaw):
+    """Elastic-perfectly-plastic spring in parallel with ``alpha k`` (kinematic hardening).
+
+    ``F = k [alpha v + (1 - alpha) z]`` with ``|z| <= u_y`` the elastic-perfectly-plastic
+    displacement: the initial stiffness is ``k``, the story yields at ``v = u_y`` with
+    ``F = k u_y`` and then stiffens at ``alpha k``; unloading is elastic (``k``), and the
+    elastic range stays ``2 u_y`` wide wherever it has moved (OpenSees' ``Steel01`` with
+    ``b = alpha`` and no isotropic hardening).
+    """
+
+    name = "bilinear"
+    Params = BilinearLawParams
+    n_states = 1
+    state_names = ("elastic-perfectly-plastic displacement z, m",)
+
+    def coefficients(self, stiffness: np.ndarray) -> np.ndarray:
+        """``[d, 3]``: ``k`` (N/m), ``alpha``, ``u_y`` (m) of each story."""
+        d = len(stiffness)
+        p = self.params
+        return np.column_stack(
+            [
+                np.asarray(stiffness, dtype=np.float64),
+                per_story(p.alpha, d, "story_law.alpha"),
+                per_story(p.yield_displacement, d, "story_law.yield_displacement"),
+            ]
+        )
+
+    def functions(self) -> LawFunctions:
+        return LawFunctions(bilinear_force, bilinear_rate, bilinear_settle)
+
+    def yield_drift(self, n_stories: int) -> np.ndarray:
+        return per_story(self.params.yield_displacement, n_stories, "story_law.yield_displacement")

@@ -1,0 +1,83 @@
+"""The Bouc-Wen story spring (the law of the paper's Example 1 building)."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from cphysfno_core import LawFunctions, Params, StoryLaw, per_story
+from pydantic import Field
+
+from .common import LAW_JIT, ExponentPerStory, PerStory, RatioPerStory, no_settling
+
+
+class BoucWenLawParams(Params):
+    """Parameters of :class:`BoucWenLaw` (scalars or one value per story)."""
+
+    alpha: RatioPerStory = Field(0.1, description="post-yield to initial stiffness ratio")
+    exponent: ExponentPerStory = Field(3.0, description="smoothness exponent n, 1 to 50")
+    A: PerStory = Field(1.0, description="amplitude A")
+    yield_displacement: PerStory = Field(0.01, description="yield drift u_y, m")
+    beta: PerStory | None = Field(None, description="beta, 1/m^n (default 1/(2 u_y^n))")
+    gamma: PerStory | None = Field(None, description="gamma, 1/m^n (default 1/(2 u_y^n))")
+
+
+@numba.njit(**LAW_JIT)
+def bouc_wen_force(c, v, s):
+    """``F = k [alpha v + (1 - alpha) h]`` (N), ``c = [k, alpha, A, beta, gamma, n]``."""
+    return c[0] * (c[1] * v + (1.0 - c[1]) * s[0])
+
+
+@numba.njit(**LAW_JIT)
+def bouc_wen_law_rate(c, v, v_dot, s, out):
+    """``h' = A v' - beta |v'| |h|^(n-1) h - gamma v' |h|^n`` (m/s)."""
+    h = s[0]
+    magnitude = abs(h)
+    power = magnitude ** (c[5] - 1.0)
+    out[0] = v_dot * (c[2] - c[4] * power * magnitude) - c[3] * abs(v_dot) * power * h
+
+
+class BoucWenLaw(StoryLaw):
+    """Bouc-Wen smooth hysteresis: ``F = k [alpha v + (1 - alpha) h]``, ``h`` from Bouc-Wen's
+    equation.
+
+    ``h' = A v' - beta |v'| |h|^(n-1) h - gamma v' |h|^n``.
+
+    ``beta = gamma = 1/(2 u_y^n)`` unless given: with ``A = 1`` the hysteretic part then
+    saturates at ``|h| = u_y``, the formulation of the paper's Example 1 building.
+    """
+
+    name = "bouc-wen"
+    Params = BoucWenLawParams
+    n_states = 1
+    state_names = ("hysteretic displacement h, m",)
+
+    def coefficients(self, stiffness: np.ndarray) -> np.ndarray:
+        """``[d, 6]``: ``k`` (N/m), ``alpha``, ``A``, ``beta``, ``gamma`` (1/m^n), ``n``."""
+        d = len(stiffness)
+        p = self.params
+        exponent = per_story(p.exponent, d, "story_law.exponent")
+        default = 0.5 / per_story(p.yield_displacement, d, "story_law.yield_displacement") ** (
+            exponent
+        )
+        beta = default if p.beta is None else per_story(p.beta, d, "story_law.beta")
+        gamma = default if p.gamma is None else per_story(p.gamma, d, "story_law.gamma")
+        return np.column_stack(
+            [
+                np.asarray(stiffness, dtype=np.float64),
+                per_story(p.alpha, d, "story_law.alpha"),
+                per_story(p.A, d, "story_law.A"),
+                beta,
+                gamma,
+                exponent,
+            ]
+        )
+
+    def functions(self) -> LawFunctions:
+        return LawFunctions(bouc_wen_force, bouc_wen_law_rate, no_settling)
+
+    def yield_drift(self, n_stories: int) -> np.ndarray:
+        return per_story(self.params.yield_displacement, n_stories, "story_law.yield_displacement")
+
+    def uniform(self) -> bool:
+        """Whether every parameter is one scalar for all stories."""
+        return all(not isinstance(value, tuple) for value in self.params.model_dump().values())

@@ -1,0 +1,35 @@
+"""What the built-in laws share: the compile options and parameter types."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import numba
+from pydantic import Field
+
+LAW_JIT = {"cache": True, "nogil": True, "inline": "always", "error_model": "numpy"}
+"""Options of every law function: cached on disk, free of the GIL, inlined into the
+integrator that calls it."""
+
+PositiveFloat = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
+"""A finite float > 0."""
+
+Ratio = Annotated[float, Field(ge=0.0, le=1.0)]
+"""A float in [0, 1]."""
+
+PerStory = PositiveFloat | tuple[PositiveFloat, ...]
+"""A positive value for every story, or one per story (bottom story first)."""
+
+RatioPerStory = Ratio | tuple[Ratio, ...]
+"""A ratio in [0, 1] for every story, or one per story."""
+
+Exponent = Annotated[float, Field(ge=1.0, le=50.0)]
+"""A smoothness exponent in [1, 50]."""
+
+ExponentPerStory = Exponent | tuple[Exponent, ...]
+"""An exponent for every story, or one per story."""
+
+
+@numba.njit(**LAW_JIT)
+def no_settling(c, v, s):
+    """The ``settle`` of a smooth law: nothing to correct."""
