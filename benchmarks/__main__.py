@@ -24,6 +24,7 @@ MODULES = (
     "memory",
     "opensees_bridge",
     "opensees_frame",
+    "shear_building",
 )
 ON_DEVICE = ("training", "prediction")
 """The benchmarks that run on ``--device``; the others are CPU work."""
