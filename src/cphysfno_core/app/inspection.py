@@ -38,7 +38,8 @@ def _describe_dataset(path: Path, f: h5py.File, records: int) -> str:
         if key in f.attrs:
             lines.append(f"  {key}: {f.attrs[key]}")
     failures = json.loads(f.attrs.get("failures", "{}"))
-    lines += [f"  failed records: {len(failures)}", ""]
+    collapsed = int(f["collapsed"][...].sum()) if "collapsed" in f else 0
+    lines += [f"  failed records: {len(failures)}", f"  collapsed records: {collapsed}", ""]
     arrays: list[tuple[str, h5py.Dataset]] = []
     f.visititems(
         lambda name, item: arrays.append((name, item)) if isinstance(item, h5py.Dataset) else None

@@ -42,6 +42,9 @@ class Dataset:
             left out of every split.
         provenance: one mapping per record: its source, draw, time step and the source's
             metadata (event, station, RSN, scale factor, ...); empty for older files.
+        collapsed: ``[N]`` whether each record collapsed the structure; collapsed records
+            are left out of :meth:`rows` (training, error tables) and listed by
+            :meth:`collapsed_rows`. ``None`` (older files) means none did.
     """
 
     ag: np.ndarray
@@ -53,24 +56,44 @@ class Dataset:
     sizes: dict[str, int]
     failures: dict[int, str] = field(default_factory=dict)
     provenance: tuple[dict, ...] = ()
+    collapsed: np.ndarray | None = None
 
-    def rows(self, split: str) -> np.ndarray:
-        """The record indices of ``split`` (``train``, ``val`` or ``test``), failed records
-        left out; DatasetError if every record of the split failed."""
+    def __post_init__(self) -> None:
+        if self.collapsed is None:
+            self.collapsed = np.zeros(self.u.shape[0], dtype=bool)
+
+    def _split_rows(self, split: str) -> np.ndarray:
         if split not in SPLITS:
             raise DatasetError(f"unknown split '{split}': use one of {', '.join(SPLITS)}")
         start = sum(self.sizes[s] for s in SPLITS[: SPLITS.index(split)])
-        rows = np.arange(start, start + self.sizes[split])
+        return np.arange(start, start + self.sizes[split])
+
+    def collapsed_rows(self, split: str) -> np.ndarray:
+        """The record indices of ``split`` whose record collapsed the structure."""
+        rows = self._split_rows(split)
+        return rows[self.collapsed[rows]]
+
+    def rows(self, split: str) -> np.ndarray:
+        """The record indices of ``split`` (``train``, ``val`` or ``test``), failed and
+        collapsed records left out; DatasetError if every record of the split failed or
+        collapsed."""
+        rows = self._split_rows(split)
+        collapsed = self.collapsed[rows]
+        if collapsed.all() and rows.size:
+            raise DatasetError(
+                f"every one of the {rows.size} records of the {split} split collapsed the "
+                "structure: scale the ground motions down for a surrogate of its response"
+            )
         failed = np.isin(rows, list(self.failures))
-        if failed.all() and rows.size:
-            first = int(rows[0])
+        if (failed | collapsed).all() and rows.size:
+            first = int(rows[failed][0])
             raise DatasetError(
                 f"every one of the {rows.size} records of the {split} split failed in "
                 f"simulation (record {first}: {self.failures[first]}); {len(self.failures)} of "
                 f"{self.u.shape[0]} records failed in all: fix the cause and generate the "
                 "dataset again"
             )
-        return rows[~failed]
+        return rows[~(failed | collapsed)]
 
     def motions(self, split: str) -> GroundMotions:
         return GroundMotions(self.ag[self.rows(split)], self.dt)
@@ -131,6 +154,11 @@ def array_descriptions(output_names: list[str]) -> dict[str, tuple[str, str]]:
     return {
         "ag": ("m/s^2", "ground acceleration [record, sample], linear between samples"),
         "u": ("m", f"displacement relative to the ground [record, sample, output]: {outputs}"),
+        "collapsed": (
+            "",
+            "whether the record collapsed the structure [record]; its u is NaN after the "
+            "collapse and it is left out of training and error tables",
+        ),
         "records": (
             "",
             "provenance of each record (JSON: source, draw, dt, the source's "
@@ -213,6 +241,7 @@ def load_dataset(path: str | Path) -> Dataset:
                 sizes={s: int(f.attrs[f"n_{s}"]) for s in SPLITS},
                 failures={int(k): v for k, v in json.loads(f.attrs.get("failures", "{}")).items()},
                 provenance=read_provenance(f),
+                collapsed=f["collapsed"][...] if "collapsed" in f else None,
             )
     except (OSError, KeyError) as error:
         raise DatasetError(f"{path} is not a cphysfno dataset: {error}") from None

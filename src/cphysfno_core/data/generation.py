@@ -295,7 +295,17 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
         for index, cause in failures.items():
             if progress:
                 show_progress(f"  record {index} skipped: {cause}")
-        arrays = {"u": result.u, "failures": np.array(json.dumps(failures))}
+        collapsed = np.flatnonzero(result.collapsed)
+        if progress and collapsed.size:
+            show_progress(
+                f"  records {', '.join(str(start + int(k)) for k in collapsed)} collapsed the "
+                "structure (kept, flagged, left out of training)"
+            )
+        arrays = {
+            "u": result.u,
+            "collapsed": result.collapsed,
+            "failures": np.array(json.dumps(failures)),
+        }
         arrays.update({f"z/{name}": values for name, values in result.z.items()})
         arrays.update({f"extras/{name}": values for name, values in result.extras.items()})
         _save_npz(_chunk_path(parts, i), arrays)
@@ -330,6 +340,7 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> None
                 stop = min(start + SAMPLE_BLOCK, shape[0])
                 f["ag"][start:stop] = motions.rows(start, stop)
             f.create_dataset("u", shape=shape, dtype="f8")
+            f.create_dataset("collapsed", shape=shape[:1], dtype=bool)
             for pp in config.preprocessor:
                 f.create_dataset(f"z/{pp.name}", shape=shape, dtype="f8")
             provenance = [json.dumps(p, default=str) for p in motions.provenance()]

@@ -23,12 +23,19 @@ class ChunkResult:
         extras: extra structural channels, ``[n, T, k]`` each.
         z: preprocessor name -> ``[n, T, n_out]`` physics responses in m.
         failures: index within the chunk -> cause, for the records that failed.
+        collapsed: ``[n]`` whether each record collapsed the structure (its truth holds NaN
+            after the collapse; not a failure).
     """
 
     u: np.ndarray
     extras: dict[str, np.ndarray]
     z: dict[str, np.ndarray]
     failures: dict[int, str] = field(default_factory=dict)
+    collapsed: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.collapsed is None:
+            self.collapsed = np.zeros(self.u.shape[0], dtype=bool)
 
 
 class _Parts:
@@ -59,7 +66,9 @@ class _Parts:
         for name, (entry, preprocessor) in self.preprocessors.items():
             z[name] = np.asarray(preprocessor.transform(motions), dtype=np.float64)
             _check_shape(z[name], shape, entry, "z")
-        result = ChunkResult(responses.displacement, extras, z, dict(responses.failures))
+        result = ChunkResult(
+            responses.displacement, extras, z, dict(responses.failures), responses.collapsed
+        )
         for i in result.failures:
             _blank(result, i)
         return result
@@ -75,9 +84,11 @@ def _check_shape(values: Any, shape: tuple, entry: Any, what: str) -> None:
 
 
 def _non_finite_causes(result: ChunkResult) -> dict[int, str]:
-    """Record index -> what holds NaN or Inf, for the records with any non-finite output."""
+    """Record index -> what holds NaN or Inf, for the records with any non-finite output
+    (the truth of a collapsed record ends in NaN by design)."""
     causes: dict[int, str] = {}
-    outputs = [("the response (the simulation diverged)", result.u)]
+    truth = np.where(result.collapsed[:, None, None], 0.0, result.u)
+    outputs = [("the response (the simulation diverged)", truth)]
     outputs += [
         (f"the '{name}' physics response (its simulation failed or diverged)", values)
         for name, values in result.z.items()
@@ -145,11 +156,13 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
             results.append(None)
             continue
         results.append(single)
+    collapsed = np.array([r is not None and bool(r.collapsed[0]) for r in results])
     template = next((r for r in results if r is not None), None)
     if template is None:
         shape = (motions.n_records, motions.n_steps, parts.structure.n_outputs)
         nan = np.full(shape, np.nan)
-        return ChunkResult(nan, {}, {name: nan.copy() for name in parts.preprocessors}, failures)
+        z = {name: nan.copy() for name in parts.preprocessors}
+        return ChunkResult(nan, {}, z, failures, collapsed)
 
     def stack(pick) -> np.ndarray:
         rows = [pick(r) if r is not None else np.full_like(pick(template), np.nan) for r in results]
@@ -160,4 +173,5 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
         {name: stack(lambda r, n=name: r.extras[n]) for name in template.extras},
         {name: stack(lambda r, n=name: r.z[n]) for name in template.z},
         failures,
+        collapsed,
     )

@@ -168,12 +168,19 @@ class Responses:
             ``"did not converge at t = 12.34 s"``); those records' rows are NaN. A
             structure that reports failures here spares the caller re-running the batch
             record by record to find them.
+        collapsed: ``[n_records]`` bool, whether the record collapsed the structure (its
+            analysis stopped converging, or a drift passed the structure's collapse
+            limit). A collapse is data, not a failure: the record's rows hold the history
+            up to the collapse and NaN after it; datasets keep the flag, training and error
+            tables leave the record out and fragility counts it. ``None`` (the default)
+            means no record collapsed.
     """
 
     displacement: np.ndarray
     dt: float
     extras: Mapping[str, np.ndarray] = field(default_factory=dict)
     failures: Mapping[int, str] = field(default_factory=dict)
+    collapsed: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         u = np.asarray(self.displacement, dtype=np.float64)
@@ -189,6 +196,16 @@ class Responses:
         if outside:
             raise InputError(f"failures name records {outside} outside 0..{u.shape[0] - 1}")
         object.__setattr__(self, "failures", failures)
+        if self.collapsed is None:
+            collapsed = np.zeros(u.shape[0], dtype=bool)
+        else:
+            collapsed = np.asarray(self.collapsed)
+            if collapsed.shape != (u.shape[0],) or collapsed.dtype != np.bool_:
+                raise InputError(
+                    f"collapsed must be a bool array with one flag per record ({u.shape[0]}), "
+                    f"got {collapsed.dtype} of shape {collapsed.shape}"
+                )
+        object.__setattr__(self, "collapsed", collapsed)
 
     @property
     def time(self) -> np.ndarray:
