@@ -1,0 +1,81 @@
+"""Lognormal fragility fitting against known curves and a brute-force likelihood."""
+
+import numpy as np
+import pytest
+import scipy.stats
+
+from cphysfno_core import InputError
+from cphysfno_core.reporting.fragility import (
+    Fragility,
+    fit_lognormal,
+    fit_with_intervals,
+    lognormal_through,
+    with_collapse,
+)
+
+
+def _records(n, median, beta, seed):
+    """``n`` records with log-uniform intensities over 0.05-3 and exceedance drawn from a
+    known lognormal fragility."""
+    rng = np.random.default_rng(seed)
+    x = np.exp(rng.uniform(np.log(0.05), np.log(3.0), n))
+    y = rng.random(n) < scipy.stats.norm.cdf(np.log(x / median) / beta)
+    return x, y
+
+
+def test_a_large_sample_recovers_the_curve_it_was_drawn_from():
+    x, y = _records(6000, median=0.5, beta=0.4, seed=1)
+    fitted = fit_lognormal(x, y)
+    assert fitted.median == pytest.approx(0.5, rel=0.04)
+    assert fitted.beta == pytest.approx(0.4, abs=0.03)
+
+
+def test_the_fit_is_the_maximum_of_the_likelihood():
+    x, y = _records(60, median=0.8, beta=0.5, seed=2)
+    fitted = fit_lognormal(x, y)
+    medians = np.exp(np.linspace(np.log(0.3), np.log(2.0), 301))
+    betas = np.linspace(0.1, 1.5, 281)
+    m, b = np.meshgrid(medians, betas, indexing="ij")
+    z = (np.log(x)[None, None, :] - np.log(m)[..., None]) / b[..., None]
+    log_l = np.where(y, scipy.stats.norm.logcdf(z), scipy.stats.norm.logcdf(-z)).sum(axis=-1)
+    i, j = np.unravel_index(np.argmax(log_l), log_l.shape)
+    assert fitted.median == pytest.approx(medians[i], rel=0.01)
+    assert fitted.beta == pytest.approx(betas[j], abs=0.01)
+
+
+def test_bootstrap_intervals_hold_the_truth_and_narrow_with_more_records():
+    rng = np.random.default_rng(3)
+    small = fit_with_intervals(*_records(100, 0.5, 0.4, seed=4), rng, n_bootstrap=100)
+    large = fit_with_intervals(*_records(1600, 0.5, 0.4, seed=5), rng, n_bootstrap=100)
+    for fit in (small, large):
+        assert fit.median_interval[0] < 0.5 < fit.median_interval[1]
+        assert fit.beta_interval[0] < 0.4 < fit.beta_interval[1]
+    width = lambda interval: interval[1] - interval[0]  # noqa: E731
+    assert width(large.median_interval) < 0.5 * width(small.median_interval)
+    assert large.to_dict()["n_records"] == 1600
+
+
+def test_collapse_adds_by_total_probability():
+    demand, collapse = Fragility(0.4, 0.3), Fragility(1.2, 0.35)
+    x = np.array([0.2, 0.4, 1.2, 3.0])
+    pc = scipy.stats.norm.cdf(np.log(x / 1.2) / 0.35)
+    pd = scipy.stats.norm.cdf(np.log(x / 0.4) / 0.3)
+    np.testing.assert_allclose(with_collapse(demand, collapse, x), pc + (1 - pc) * pd)
+    np.testing.assert_allclose(with_collapse(demand, None, x), pd)
+    grid = np.exp(np.linspace(np.log(0.05), np.log(5.0), 200))
+    summary = lognormal_through(demand.probability(grid), grid)
+    assert summary.median == pytest.approx(0.4, rel=1e-4)
+    assert summary.beta == pytest.approx(0.3, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("exceeded", "message"),
+    [
+        (np.zeros(5, bool), "no record exceeds it .*lower the limit state"),
+        (np.ones(5, bool), "every record exceeds it"),
+        (np.ones(4, bool), "intensity and exceedance need one value per record"),
+    ],
+)
+def test_a_fit_without_both_outcomes_says_what_to_change(exceeded, message):
+    with pytest.raises(InputError, match=f"pid > 0.01: {message}"):
+        fit_lognormal(np.linspace(0.1, 1.0, 5), exceeded, what="pid > 0.01")
