@@ -38,18 +38,35 @@ def test_implicit_on_the_motion_grid_reproduces_the_fine_grid(
     assert np.all(error <= 1e-3), f"relative L2 per story {error}"
 
 
-def test_thirty_times_coarser_grid_is_stable_and_bounded(building, motions, truth, rel_l2) -> None:
+def test_thirty_times_coarser_grid_is_stable_with_its_channels(building, motions) -> None:
     coarse = building.simulate(motions, dt=0.3)
-    u = coarse.displacement
-    assert u.shape == (12, 101, 5)
+    assert coarse.displacement.shape == (12, 101, 5)
     assert coarse.dt == pytest.approx(0.3)
-    assert np.all(np.isfinite(u))
+    assert np.all(np.isfinite(coarse.displacement))
     assert set(coarse.extras) == {"story_drift", "story_shear"}
-    on_coarse_grid = truth[:, ::30]
-    error = rel_l2(u, on_coarse_grid)
-    rms_ratio = np.sqrt((u**2).mean(axis=(0, 1)) / (on_coarse_grid**2).mean(axis=(0, 1)))
-    assert np.all(error < 2.0), f"relative L2 per story at dt' = 0.3 s: {error}"
-    assert np.all((rms_ratio > 0.6) & (rms_ratio < 1.6)), f"RMS ratio per story {rms_ratio}"
+
+
+@pytest.mark.parametrize(("step", "bound"), [(0.3, 0.2), (0.05, 0.01)])
+def test_a_coarse_step_solves_the_equations_under_the_coarse_motion(
+    building, motions, matrices, reference_rhs, piecewise_solver, rel_l2, step, bound
+) -> None:
+    """Against DOP853 (rtol 1e-9) of the same equations driven by the motion resampled onto
+    the coarse grid: the error is the implicit scheme's alone. Measured 0.16-0.18 per story
+    at 0.3 s and at most 0.0073 at 0.05 s (0.0007 at 0.02 s). Against the fine-grid truth
+    the 0.3 s response is 1.2-1.3 away: the 0.3 s grid aliases the white noise, which is
+    why the relaxed preprocessor filters the motion first."""
+    sample = motions[:2]
+    coarse_motion = sample.resample(step)
+    coarse = building.simulate(sample, dt=step).displacement
+    _, _, damping = matrices
+    reference = np.stack(
+        [
+            piecewise_solver(reference_rhs, np.zeros(15), ag, step, 1e-9, 1e-12, (damping,))[:, :5]
+            for ag in coarse_motion.acceleration
+        ]
+    )
+    error = rel_l2(coarse, reference)
+    assert np.all(error < bound), f"relative L2 per story at dt' = {step} s: {error}"
 
 
 def test_halved_steps_integrate_the_same_equations(

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from cphysfno_opensees.bridge.analysis import analyse
 from cphysfno_opensees.bridge.structure import AuburnRavineBridge
 
 import cphysfno_core as cp
@@ -51,14 +52,28 @@ def test_a_strong_record_takes_the_columns_out_of_their_linear_range(bridge, rec
     assert np.all(relative_l2(nonlinear, linear) > 0.1)
 
 
-def test_relaxed_runs_the_model_on_a_coarse_grid(bridge, record):
+def test_a_coarse_step_is_what_opensees_finds_at_that_step(bridge, record):
+    """The compiled engine at dt' = 0.05 s against OpenSees' own analysis of the same model
+    under the same motion resampled onto that grid: measured 4e-4 to 7.4e-4 per output,
+    the size of the difference the two Newton paths make on the fine grid."""
+    coarse = bridge.simulate(record, dt=0.05).displacement[0]
+    motion = record.resample(0.05)
+    theirs = analyse(bridge.design, bridge.numerics, bridge.damping, "fibre", None,
+                     motion.acceleration[0], 0.05)  # fmt: skip
+    n = min(len(coarse), len(theirs)) - 1  # OpenSees' last step overshoots the record's end
+    error = np.linalg.norm(coarse[:n] - theirs[:n], axis=0) / np.linalg.norm(theirs[:n], axis=0)
+    assert error.max() < 2e-3, error
+
+
+def test_relaxed_at_five_times_the_step_stays_near_the_fine_response(bridge, record):
+    """Measured relative L2 from the fine response 0.09 to 0.33 per output on this record
+    (the coarse grid filters the motion above 10 Hz and integrates with a longer step)."""
     relaxed = cp.create("preprocessor", "relaxed", factor=5).fit(bridge)
     z = relaxed.transform(record)
     fine = bridge.simulate(record).displacement
     assert z.shape == fine.shape
-    assert np.all(np.isfinite(z))
-    rms_ratio = np.sqrt((z**2).mean() / (fine**2).mean())
-    assert 0.5 < rms_ratio < 2.0, rms_ratio
+    error = relative_l2(z, fine)
+    assert np.all(error < 0.4), error
 
 
 def test_modal_reduction_needs_a_restoring_force_the_bridge_does_not_have(bridge):
