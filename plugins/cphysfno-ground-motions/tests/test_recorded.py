@@ -181,7 +181,7 @@ def test_replace_draws_any_number_each_with_its_own_factor(library):
     assert len(set(np.round(factors, 12))) == 40  # no two draws alike
     again = source.sample(40, np.random.default_rng(1))
     np.testing.assert_array_equal(drawn.acceleration, again.acceleration)
-    with pytest.raises(ConfigError, match="replace: .*give it"):
+    with pytest.raises(ConfigError, match="replace: .*give one"):
         cphysfno_core.create("ground_motion", "recorded", **settings, replace=True)
 
 
@@ -329,7 +329,7 @@ def test_registry_creates_it_by_name():
         ({"record_set": "mid-field"}, "recorded.record_set"),
         ({"record_set": ("near-field", "near-field-pulse")}, "recorded.record_set: .*share"),
         ({"record_set": ()}, "recorded.record_set: .*at least one"),
-        ({"copies": 3}, "recorded.copies: .*give it"),
+        ({"copies": 3}, "recorded.copies: .*give one"),
         ({"scale_range": (2.0, 0.5)}, "recorded.scale_range: .*low <= high"),
         ({"scale_range": (0.0, 2.0)}, "recorded.scale_range.0"),
         ({"pre_shaking": -1.0}, "recorded.pre_shaking"),

@@ -30,6 +30,7 @@ from .flatfile import read_flatfile
 from .grid import common_grid
 from .record import Record, describe
 from .record_measures import intensity_metadata
+from .scenarios import IntensityScenarios, scenario_factors
 from .scaling import factors_to_target, log_uniform_factors, scale, scaled_copies
 from .selection import Criteria, select
 
@@ -151,8 +152,16 @@ class RecordedParams(Params):
         description="draw, when sampling, a factor log-uniform in [low, high] for each of "
         "the copies of every record (after target and scale_factors)",
     )
+    intensity_scenarios: IntensityScenarios | None = Field(
+        None,
+        description="scale each copy so that its PSA at a period is a BSSA14 draw for a "
+        "scenario sampled in a window (instead of scale_range)",
+    )
     copies: int = Field(
-        1, ge=1, validate_default=True, description="copies of every record, with scale_range"
+        1,
+        ge=1,
+        validate_default=True,
+        description="copies of every record, with scale_range or intensity_scenarios",
     )
     replace: bool = Field(
         False,
@@ -223,19 +232,41 @@ class RecordedParams(Params):
     def _low_to_high(cls, value: tuple[float, float] | None) -> tuple[float, float] | None:
         return _ordered(value)
 
+    @field_validator("intensity_scenarios")
+    @classmethod
+    def _one_random_scaling(
+        cls, scenarios: IntensityScenarios | None, info: ValidationInfo
+    ) -> IntensityScenarios | None:
+        if scenarios is not None and info.data.get("scale_range") is not None:
+            raise ValueError("give scale_range or intensity_scenarios, not both")
+        return scenarios
+
     @field_validator("copies")
     @classmethod
     def _copies_need_a_range(cls, copies: int, info: ValidationInfo) -> int:
-        if copies > 1 and "scale_range" in info.data and info.data["scale_range"] is None:
-            raise ValueError("copies are scaled by factors drawn from scale_range: give it")
+        if (
+            copies > 1
+            and "scale_range" in info.data
+            and info.data["scale_range"] is None
+            and info.data.get("intensity_scenarios") is None
+        ):
+            raise ValueError(
+                "copies are scaled by factors drawn from scale_range or intensity_scenarios: "
+                "give one"
+            )
         return copies
 
     @field_validator("replace")
     @classmethod
     def _replace_needs_a_range(cls, replace: bool, info: ValidationInfo) -> bool:
-        if replace and info.data.get("scale_range") is None:
+        if (
+            replace
+            and info.data.get("scale_range") is None
+            and info.data.get("intensity_scenarios") is None
+        ):
             raise ValueError(
-                "a record drawn again is scaled by its own factor from scale_range: give it"
+                "a record drawn again is scaled by its own factor from scale_range or "
+                "intensity_scenarios: give one"
             )
         if replace and info.data.get("copies", 1) > 1:
             raise ValueError("replace draws any number of scaled records: leave copies at 1")
@@ -357,11 +388,20 @@ class Recorded(GroundMotionSource):
             raise InputError(f"{self.name}: n must be a positive integer, got {n!r}")
         motions = self.all_records
         scale_range, copies = self.params.scale_range, self.params.copies
+        scenarios = self.params.intensity_scenarios
         if self.params.replace:
             rows = rng.integers(0, motions.n_records, size=int(n))
+            if scenarios is not None:
+                factors, drawn = scenario_factors(motions, rows, scenarios, rng)
+                return self._scaled(motions, rows, factors, np.zeros(int(n), dtype=int), drawn)
             factors = log_uniform_factors(int(n), 1, scale_range, rng)[:, 0]
             return self._scaled(motions, rows, factors, np.zeros(int(n), dtype=int))
-        if scale_range is not None:
+        drawn_scenarios = None
+        if scenarios is not None:
+            every = np.repeat(np.arange(motions.n_records), copies)
+            flat, drawn_scenarios = scenario_factors(motions, every, scenarios, rng)
+            factors = flat.reshape(motions.n_records, copies)
+        elif scale_range is not None:
             factors = log_uniform_factors(motions.n_records, copies, scale_range, rng)
         available = motions.n_records * copies
         if n > available:
@@ -375,20 +415,27 @@ class Recorded(GroundMotionSource):
                 stacklevel=2,
             )
         drawn = rng.permutation(available)[: min(int(n), available)]
-        if scale_range is None:
+        if scale_range is None and scenarios is None:
             return motions[drawn]
         rows, copy = np.divmod(drawn, copies)
-        return self._scaled(motions, rows, factors[rows, copy], copy)
+        extra = None if drawn_scenarios is None else [drawn_scenarios[k] for k in drawn]
+        return self._scaled(motions, rows, factors[rows, copy], copy, extra)
 
     def _scaled(
-        self, motions: GroundMotions, rows: np.ndarray, factors: np.ndarray, copy: np.ndarray
+        self,
+        motions: GroundMotions,
+        rows: np.ndarray,
+        factors: np.ndarray,
+        copy: np.ndarray,
+        extra: list[dict] | None = None,
     ) -> GroundMotions:
-        """Records ``rows`` of ``motions`` times ``factors``, with their copy number and
-        intensity measures in their metadata."""
+        """Records ``rows`` of ``motions`` times ``factors``, with their copy number,
+        intensity measures and ``extra`` (one mapping per record) in their metadata."""
         scaled = scaled_copies(motions, rows, factors)
         measures = intensity_metadata(scaled.acceleration, scaled.dt)
+        extra = extra or [{}] * len(rows)
         metadata = [
-            {**meta, "copy": int(j), **measures[k]}
+            {**meta, "copy": int(j), **measures[k], **extra[k]}
             for k, (meta, j) in enumerate(zip(scaled.metadata, copy, strict=True))
         ]
         return GroundMotions(scaled.acceleration, scaled.dt, metadata)
