@@ -7,6 +7,7 @@ import pytest
 import scipy.stats
 from cphysfno_core import ConfigError, create
 from cphysfno_core.signals.intensity import response_spectrum
+
 from cphysfno_ground_motions.target import bssa14_target
 
 WINDOW = {"magnitude": [5.0, 7.0], "rjb_km": [15.0, 50.0], "vs30": [180.0, 1800.0]}

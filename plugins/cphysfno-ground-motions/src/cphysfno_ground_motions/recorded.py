@@ -30,8 +30,8 @@ from .flatfile import read_flatfile
 from .grid import common_grid
 from .record import Record, describe
 from .record_measures import intensity_metadata
-from .scenarios import IntensityScenarios, scenario_factors
 from .scaling import factors_to_target, log_uniform_factors, scale, scaled_copies
+from .scenarios import IntensityScenarios, scenario_factors
 from .selection import Criteria, select
 
 _RSN = re.compile(r"^RSN(\d+)", re.IGNORECASE)
