@@ -16,7 +16,6 @@ Accuracy is relative L2 per story (the largest over the stories) against a tight
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 
 import numpy as np
@@ -26,7 +25,7 @@ from cphysfno_opensees.loader import import_opensees
 
 import cphysfno_core as cp
 
-from .common import Row, best_time, load_average
+from .common import Row, Timing, load_average, median_time, on_cores
 
 MASS = 3.0e4
 STIFFNESS = np.array([7.5e7, 7.0e7, 6.0e7, 4.5e7, 2.5e7])
@@ -38,26 +37,40 @@ COMPATIBILITY = np.eye(5) - np.eye(5, k=-1)
 
 def run(quick: bool = False) -> list[Row]:
     n_records, n_alternative, n_reference = (20, 2, 1) if quick else (1000, 10, 3)
+    runs = 2 if quick else 5
     motions = cp.create("ground_motion", "white-noise").sample(n_records, np.random.default_rng(0))
     building = cp.create("structure", "bouc-wen-shear-building")
     load_before = load_average()
-    ours = best_time(lambda: building.simulate(motions), repeat=3)
+    with on_cores(1):
+        ours_one, ours_one_how = median_time(lambda: building.simulate(motions), runs=runs)
+    ours_all, ours_all_how = median_time(lambda: building.simulate(motions), runs=runs)
     truth = building.simulate(motions[:n_alternative]).displacement
     references = [_reference(a, motions.dt) for a in motions.acceleration[:n_reference]]
     our_error = max(_relative_l2(truth[i], references[i]).max() for i in range(n_reference))
     scale = n_records / n_alternative
     subset = motions.acceleration[:n_alternative]
-    ivp_seconds, ivp_u = _timed(lambda a: _solve_ivp(a, motions.dt), subset)
+    with on_cores(1):
+        ivp_seconds, ivp_how, ivp_u = _record_by_record(
+            lambda a: _solve_ivp(a, motions.dt), subset, runs
+        )
     try:
         ops = import_opensees()
     except cp.PluginError as error:
-        ops, ops_seconds, ops_notes = None, None, [f"OpenSeesPy not importable ({error})"]
+        ops, ops_seconds, ops_how, ops_notes = (
+            None,
+            None,
+            None,
+            [f"OpenSeesPy not importable ({error})"],
+        )
     if ops is not None:
-        ops_seconds, ops_u = _timed(lambda a: _opensees(ops, a, motions.dt, 1), subset)
+        with on_cores(1):
+            ops_seconds, ops_how, ops_u = _record_by_record(
+                lambda a: _opensees(ops, a, motions.dt, 1), subset, runs
+            )
         ops_seconds *= scale
         ops_fine = _opensees(ops, motions.acceleration[0], motions.dt, 4)
         ops_notes = [
-            f"OpenSees: {n_alternative} records timed, scaled x{scale:g}",
+            f"OpenSees: {n_alternative} records per run, scaled x{scale:g}",
             f"OpenSees relative L2 to ours {_relative_l2(ops_u, truth).max():.1e} at dt "
             f"= {motions.dt} s and {_relative_l2(ops_fine, truth[0]).max():.1e} at dt/4 "
             "(Newmark is second order: the same system, converging)",
@@ -71,36 +84,56 @@ def run(quick: bool = False) -> list[Row]:
     return [
         Row(
             stage=f"Bouc-Wen fine-grid simulate, {size}",
-            ours_s=ours,
+            ours_s=ours_one,
+            ours_timing=ours_one_how,
             alternative="scipy solve_ivp RK45 rtol 1e-6, record by record",
             alternative_s=ivp_seconds * scale,
+            alternative_timing=ivp_how,
             target="<= 0.2 s; >= 20 000x vs solve_ivp",
             notes=[
                 accuracy,
-                f"solve_ivp: {n_alternative} records timed, scaled x{scale:g}; its relative "
-                f"L2 to ours {_relative_l2(ivp_u, truth).max():.1e}",
-                "ours: best of 3 after a warm-up",
+                f"solve_ivp: {n_alternative} records per run, scaled x{scale:g}; its "
+                f"relative L2 to ours {_relative_l2(ivp_u, truth).max():.1e}",
                 load,
             ],
         ),
         Row(
             stage=f"Bouc-Wen fine-grid simulate, {size}",
-            ours_s=ours,
+            ours_s=ours_one,
+            ours_timing=ours_one_how,
             alternative="OpenSeesPy BoucWen zeroLength, Newmark avg. accel. at dt, "
             "record by record",
             alternative_s=ops_seconds,
+            alternative_timing=ops_how,
             target=">= 300x vs OpenSees",
             notes=[*ops_notes, load],
+        ),
+        Row(
+            stage=f"Bouc-Wen fine-grid simulate on every core, {size}",
+            ours_s=ours_all,
+            ours_timing=ours_all_how,
+            alternative="the same on one core (the rows above)",
+            alternative_s=ours_one,
+            alternative_timing=ours_one_how,
+            target="report",
+            notes=["the difference is the point: how the kernel scales with cores", load],
         ),
     ]
 
 
-def _timed(solve: Callable[[np.ndarray], np.ndarray], records: np.ndarray):
-    """Wall time in s of solving ``records`` one after another, and the ``[n, T, 5]``
-    displacements."""
-    start = time.perf_counter()
-    results = [solve(record) for record in records]
-    return time.perf_counter() - start, np.stack(results)
+def _record_by_record(
+    solve: Callable[[np.ndarray], np.ndarray], records: np.ndarray, runs: int
+) -> tuple[float, Timing, np.ndarray]:
+    """Median wall time in s of solving ``records`` one after another (``runs`` timed runs
+    after one untimed run), how it was taken, and the ``[n, T, 5]`` displacements."""
+    results = []
+
+    def every_record() -> None:
+        results.clear()
+        results.extend(solve(record) for record in records)
+
+    seconds, timing = median_time(every_record, runs=runs, warmup=1)
+    return seconds, timing, np.stack(results)
 
 
 def _relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
