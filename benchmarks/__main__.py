@@ -25,6 +25,7 @@ MODULES = (
     "opensees_bridge",
     "opensees_frame",
     "shear_building",
+    "bridge_accuracy",
 )
 ON_DEVICE = ("training", "prediction")
 """The benchmarks that run on ``--device``; the others are CPU work."""
