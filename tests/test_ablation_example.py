@@ -83,3 +83,15 @@ def test_every_row_is_trained_as_its_tables_say_and_scored_on_the_test_split(
     ensemble = document["ensembles"]["both"]
     np.testing.assert_allclose(ensemble["rel_l2"], metrics.relative_l2(mean, truth), rtol=1e-6)
     assert ensemble["rows"] == ["as the base", "Residual, wider!"]
+    validation = [
+        metrics.relative_l2(
+            m.predict_stages(data.motions("val")).operator_output, data.targets("val")
+        )
+        for m in members
+    ]
+    for row, expected in zip((plain, changed), validation, strict=True):
+        np.testing.assert_allclose(row["validation"]["rel_l2"], expected, rtol=1e-6)
+    chosen = ["as the base", "Residual, wider!"][int(np.argmin([v.mean() for v in validation]))]
+    assert document["selection"]["selected_on"] == "validation"
+    assert document["selection"]["row"] == chosen
+    assert document["selection"]["test_rel_l2"] == document["rows"][chosen]["rel_l2"]

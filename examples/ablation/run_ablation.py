@@ -1,5 +1,6 @@
 """Train the rows of an ablation file (e.g. ``examples/ablation/bouc-wen-ablation.toml``) on one
-dataset and write their test errors and interval coverage as JSON.
+dataset and write their validation and test errors and interval coverage as JSON, with
+the row chosen by its validation error (``selection``).
 
 Each ``[[row]]`` is the C-Phys model of the file's ``preprocessor`` with the ``base``
 config's operator, training and formulation, changed by the row's ``operator``,
@@ -103,6 +104,7 @@ def run(ablation_path: Path, dataset_path: Path, out: Path, json_path: Path) -> 
         for split in ("train", "val", "test")
     }
     test_motions, test_u, test_z = splits["test"]
+    val_motions, val_u, val_z = splits["val"]
     document: dict[str, Any] = {
         "ablation": str(ablation_path),
         "base": str(base_path),
@@ -114,6 +116,7 @@ def run(ablation_path: Path, dataset_path: Path, out: Path, json_path: Path) -> 
         "output_names": list(data.output_names),
         "target": f"relative L2 <= {TARGET} on every output",
         "physics": scores(test_z, test_u),
+        "physics_validation": scores(val_z, val_u),
         "rows": {},
     }
     members = {name for ensemble in ablation.get("ensemble", []) for name in ensemble["rows"]}
@@ -151,13 +154,15 @@ def run(ablation_path: Path, dataset_path: Path, out: Path, json_path: Path) -> 
             checkpoint.unlink()
         tic = time.perf_counter()
         test = model.predict_stages(test_motions, z=test_z)
+        validation = model.predict_stages(val_motions, z=val_z).operator_output
         if row["name"] in members:
-            outputs[row["name"]] = test.operator_output
+            outputs[row["name"]] = (validation, test.operator_output)
         result = {
             "operator": {"name": model.operator_spec.name, **model.operator_spec.params},
             "formulation": model.formulation.model_dump(),
             "training": {key: getattr(model.training, key) for key in TRAINING_FIELDS},
             **scores(test.operator_output, test_u),
+            "validation": scores(validation, val_u),
             "best_epoch": model.history_.best_epoch,
             "train_seconds": round(model.history_.seconds, 1),
             "refined": {
@@ -174,15 +179,33 @@ def run(ablation_path: Path, dataset_path: Path, out: Path, json_path: Path) -> 
     document["ensembles"] = {
         ensemble["name"]: {
             "rows": list(ensemble["rows"]),
-            **scores(np.mean([outputs[name] for name in ensemble["rows"]], axis=0), test_u),
+            **scores(np.mean([outputs[name][1] for name in ensemble["rows"]], axis=0), test_u),
+            "validation": scores(
+                np.mean([outputs[name][0] for name in ensemble["rows"]], axis=0), val_u
+            ),
         }
         for ensemble in ablation.get("ensemble", [])
     }
     for name, result in document["ensembles"].items():
         result["meets_target"] = max(result["rel_l2"]) <= TARGET
         print(f"{name}: rel L2 {np.round(result['rel_l2'], 3)}", file=sys.stderr)
+    document["selection"] = select_on_validation(document)
     json_path.write_text(json.dumps(document, indent=2) + "\n")
     return document
+
+
+def select_on_validation(document: dict[str, Any]) -> dict[str, Any]:
+    """The single-model row with the lowest validation relative L2 (mean over outputs):
+    the configuration chosen, and its test error, read once after the choice."""
+    rows = document["rows"]
+    chosen = min(rows, key=lambda name: rows[name]["validation"]["rel_l2_mean"])
+    return {
+        "selected_on": "validation",
+        "criterion": "mean over outputs of the validation relative L2, single models only",
+        "row": chosen,
+        "validation_rel_l2": rows[chosen]["validation"]["rel_l2"],
+        "test_rel_l2": rows[chosen]["rel_l2"],
+    }
 
 
 def main(argv: list[str] | None = None) -> int:
