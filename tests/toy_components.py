@@ -56,6 +56,20 @@ class ToyStructure(cp.Structure):
         return cp.Responses(out, motions.dt)
 
 
+class StoriedToyStructure(ToyStructure):
+    """The toy structure read as a two-story building: output 0 is the first floor, output
+    1 the second, stories of ``heights_m`` (m)."""
+
+    name = "toy-storied"
+    capabilities = frozenset({"stories"})
+
+    class Params(ToyStructure.Params):
+        heights_m: tuple[float, float] = (3.0, 2.5)
+
+    def stories(self):
+        return cp.Stories.stacked(self.params.heights_m)
+
+
 class FragileStructure(ToyStructure):
     """The toy structure, failing on records whose peak |a_g| exceeds ``limit``: with NaN
     output (``mode = "nan"``), an exception (``mode = "raise"``) or NaN rows named in
@@ -258,7 +272,13 @@ class CalibratedToyRefiner(ToyRefiner):
 
 @cp.hookimpl
 def cphysfno_structures():
-    return [ToyStructure, DyingOnceStructure, FragileStructure, WrongShapeStructure]
+    return [
+        ToyStructure,
+        StoriedToyStructure,
+        DyingOnceStructure,
+        FragileStructure,
+        WrongShapeStructure,
+    ]
 
 
 @cp.hookimpl

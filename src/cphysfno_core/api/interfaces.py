@@ -18,7 +18,7 @@ import scipy.stats
 import torch
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from ..signals import GroundMotions, LinearSystem, Responses
+from ..signals import GroundMotions, LinearSystem, Responses, Stories
 from ..signals.errors import CapabilityError, ConfigError, InputError
 from ..signals.intensity import SpectrumBand
 
@@ -95,6 +95,8 @@ CAPABILITIES: dict[str, str] = {
     "restoring_force": "restoring_force(): the nonlinear restoring force with its state",
     "coarse_simulation": "simulate(motions, dt=coarser): the response on a coarser grid",
     "projected_simulation": "simulate_projected(motions, basis): the Galerkin-projected model",
+    "stories": "stories(): which outputs bound each story and its height, for story drifts "
+    "and floor accelerations (engineering demand parameters)",
 }
 """The optional capabilities of a structure, by name, with what each one provides."""
 
@@ -197,6 +199,18 @@ class Structure(Component, ABC):
             them; an invertible basis gives the full model.
         """
         raise self.missing("projected_simulation")
+
+    def stories(self) -> Stories:
+        """The structure's stories (capability ``"stories"``): for each story, the output at
+        its bottom (``None`` for the ground) and at its top, and its height in m; see
+        :class:`~cphysfno_core.signals.Stories`. Engineering demand parameters (peak and
+        residual story drift ratios, peak floor accelerations, :mod:`cphysfno_core.edp`)
+        are computed from it, for simulated and for predicted responses alike.
+
+        A building whose outputs are its floor displacements bottom-up returns
+        ``Stories.stacked(heights_m)``.
+        """
+        raise self.missing("stories")
 
     def missing(self, capability: str, needed_by: str = "") -> CapabilityError:
         """The error to raise when ``capability`` is asked of a structure that lacks it."""

@@ -1,5 +1,5 @@
-"""Time histories with their time step, the package's errors, linear systems, resampling
-and intensity measures: the bottom layer, which imports no other part of the package.
+"""Time histories with their time step, the package's errors, linear systems, stories,
+resampling and intensity measures: the bottom layer, which imports no other part of the package.
 
 A plugin may import from here (``from cphysfno_core.signals import response_spectrum``)
 as from ``cphysfno_core`` itself.
@@ -41,6 +41,7 @@ from .intensity import (
 )
 from .linear_system import LinearSystem, Rayleigh
 from .resampling import resample, same_step
+from .stories import Stories
 
 __all__ = [
     "STANDARD_GRAVITY",
@@ -62,6 +63,7 @@ __all__ = [
     "ResponseSpectrum",
     "Responses",
     "SpectrumBand",
+    "Stories",
     "TimeGrid",
     "as_ground_motions",
     "check_finite",

@@ -25,8 +25,8 @@ from ..api.interfaces import (
     Refiner,
     Structure,
 )
-from ..signals import GroundMotions, LinearSystem, Responses
-from ..signals.errors import CapabilityError, CphysfnoError, NotFittedError
+from ..signals import GroundMotions, LinearSystem, Responses, Stories
+from ..signals.errors import CapabilityError, CphysfnoError, InputError, NotFittedError
 from .physics import check_linear_physics, smooth_random_motions
 
 
@@ -53,8 +53,9 @@ def _check_response(component: Any, values: np.ndarray, shape: tuple, what: str)
 
 def check_structure(structure: Structure) -> None:
     """Shapes and units of ``simulate``, any T, at rest stays at rest, determinism,
-    elastic periods, and each capability it claims, including that the capabilities
-    describe the physics of ``simulate`` (:func:`~.physics.check_linear_physics`)."""
+    elastic periods, declared stories (indices in range, heights > 0), and each capability
+    it claims, including that the capabilities describe the physics of ``simulate``
+    (:func:`~.physics.check_linear_physics`)."""
     names = structure.output_names
     if not names or len(names) != structure.n_outputs:
         raise _fail(structure, "output_names must name every output")
@@ -88,6 +89,10 @@ def check_structure(structure: Structure) -> None:
             raise _fail(structure, "linear_system().output_map must have one row per output")
     else:
         _expect(structure, CapabilityError, structure.linear_system)
+    if "stories" in capabilities:
+        _check_stories(structure)
+    else:
+        _expect(structure, CapabilityError, structure.stories)
     if "coarse_simulation" in capabilities:
         coarse = structure.simulate(motions, dt=3 * motions.dt)
         n_coarse = int(np.ceil(motions.duration / (3 * motions.dt) - 1e-9)) + 1
@@ -100,6 +105,7 @@ CAPABILITY_METHODS = {
     "linear_system": "linear_system",
     "restoring_force": "restoring_force",
     "projected_simulation": "simulate_projected",
+    "stories": "stories",
 }
 """Capabilities provided by overriding one method of :class:`Structure`."""
 
@@ -123,6 +129,21 @@ def _check_declared_capabilities(structure: Structure) -> None:
             "declares 'equivalent_linear_system' but defines neither linear_system() nor "
             "equivalent_linear_system()",
         )
+
+
+def _check_stories(structure: Structure) -> None:
+    """``stories()`` returns :class:`~cphysfno_core.signals.Stories` whose indices name the
+    structure's outputs and whose heights are finite and > 0 m, the same on every call."""
+    stories = structure.stories()
+    if not isinstance(stories, Stories):
+        raise _fail(structure, "stories() must return cphysfno_core.Stories")
+    try:  # a Stories built by hand past its constructor's checks is checked again here
+        Stories(stories.lower, stories.upper, stories.heights_m)
+        stories.check_outputs(structure.n_outputs)
+    except InputError as error:
+        raise _fail(structure, f"stories(): {error}") from None
+    if structure.stories() != stories:
+        raise _fail(structure, "stories() must return the same stories on every call")
 
 
 def _expect(component: Any, error: type[BaseException], call, *args: Any) -> None:
