@@ -18,8 +18,10 @@ from cphysfno_core import LawFunctions
 from .chain import StoryChain
 from .native import run_chunks
 
-NODES = np.array([0.0, 0.5, 0.5, 1.0])
-"""Times of the Runge-Kutta stages, as fractions of the step."""
+FAST = {"nogil": True, "error_model": "numpy"}
+"""Compile options of a kernel made for a law: no disk cache (it cannot hold a kernel made
+for functions passed in) and IEEE arithmetic (no fast-math: a law's corners, such as a
+force clamped onto a branch, must see exactly the numbers it computes)."""
 
 
 def integrate_chain(
@@ -80,7 +82,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
     force, rate, settle = functions
     width = max(n_states, 1)
 
-    @numba.njit(nogil=True, error_model="numpy")
+    @numba.njit(**FAST)
     def rates(y, ag_now, damping, force_map, drift_map, part, coef, out, story_rate, shear):
         r, d = part.shape[0], drift_map.shape[0]
         for s in range(d):
@@ -103,7 +105,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
                 acc -= force_map[j, s] * shear[s]
             out[r + j] = acc
 
-    @numba.njit(nogil=True, error_model="numpy")
+    @numba.njit(**FAST)
     def sample(y, k, drift_map, floors, coef, disp_out, drift_out, shear_out):
         r, d = floors.shape[1], floors.shape[0]
         for s in range(d):
@@ -116,7 +118,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
             drift_out[k, s] = v
             shear_out[k, s] = force(coef[s], v, y[2 * r + s * width : 2 * r + (s + 1) * width])
 
-    @numba.njit(nogil=True, error_model="numpy")
+    @numba.njit(**FAST)
     def kernel(
         ag,
         damping,

@@ -29,10 +29,17 @@ def bouc_wen_force(c, v, s):
 
 @numba.njit(**LAW_JIT)
 def bouc_wen_law_rate(c, v, v_dot, s, out):
-    """``h' = A v' - beta |v'| |h|^(n-1) h - gamma v' |h|^n`` (m/s)."""
+    """``h' = A v' - beta |v'| |h|^(n-1) h - gamma v' |h|^n`` (m/s); a whole exponent up
+    to 9 by multiplication."""
     h = s[0]
     magnitude = abs(h)
-    power = magnitude ** (c[5] - 1.0)
+    exponent = c[5] - 1.0
+    if exponent == int(exponent) and exponent <= 8.0:
+        power = 1.0
+        for _ in range(int(exponent)):
+            power *= magnitude
+    else:
+        power = magnitude**exponent
     out[0] = v_dot * (c[2] - c[4] * power * magnitude) - c[3] * abs(v_dot) * power * h
 
 
