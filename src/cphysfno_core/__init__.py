@@ -15,6 +15,7 @@ The names below are the public API; plugins import only these (or
 :mod:`cphysfno_core.signals` and :mod:`cphysfno_core.testing`).
 """
 
+from . import edp
 from .api import (
     GroundMotionSource,
     LawFunctions,
@@ -81,6 +82,7 @@ __all__ = [
     "FormulationConfig",
     "TrainingConfig",
     "compose",
+    "edp",
     "generate_dataset",
     "intensity",
     "load_config",
