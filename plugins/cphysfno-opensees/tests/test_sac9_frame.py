@@ -156,6 +156,6 @@ def test_els_by_name_is_close_to_the_frame_at_small_amplitude(frame):
 def test_the_frame_has_no_exact_linear_system_of_its_own(frame):
     """Its linear system is an equivalent one (the pushover's shear building), which ELS
     uses; what needs the frame's own linear system is refused with the reason."""
-    assert frame.capabilities == {"equivalent_linear_system", "coarse_simulation"}
+    assert frame.capabilities == {"equivalent_linear_system", "coarse_simulation", "stories"}
     with pytest.raises(cp.CapabilityError, match="linear_system.*equivalent_linear_system"):
         frame.linear_system()

@@ -10,7 +10,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import LinearSystem, Rayleigh
+from cphysfno_core import LinearSystem, Rayleigh, Stories
 
 from ..loader import import_opensees
 from ..structure import OpenSeesParams, OpenSeesStructure
@@ -95,11 +95,18 @@ class AuburnRavineBridge(OpenSeesStructure):
 
     name = "auburn-ravine-bridge"
     Params = AuburnRavineBridgeParams
-    capabilities = frozenset({"linear_system", "coarse_simulation"})
+    capabilities = frozenset({"linear_system", "coarse_simulation", "stories"})
 
     @property
     def output_names(self) -> tuple[str, ...]:
         return tuple(f"pier-{i + 1}" for i in range(2 * len(self.params.pier_heights)))
+
+    def stories(self) -> Stories:
+        """One "story" per column, from the ground to its top (output ``pier-i``), over the
+        clear column height of its bent (``pier_heights``, m): the drift ratio of a column
+        is its top's displacement over its height."""
+        heights = tuple(h for h in self.params.pier_heights for _column in ("south", "north"))
+        return Stories((None,) * len(heights), tuple(range(len(heights))), heights)
 
     @cached_property
     def design(self) -> BridgeDesign:

@@ -11,14 +11,14 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import ConfigError, LinearSystem, Rayleigh
+from cphysfno_core import ConfigError, LinearSystem, Rayleigh, Stories
 
 from ..loader import import_opensees
 from ..pushover import PushoverCurve, plot_pushover, run_pushover, shear_building
 from ..structure import OpenSeesParams, OpenSeesStructure
 from .analysis import SolverConfig, analyse_record
 from .model import FrameConfig, build_frame, eigenvalues
-from .sections import N_STORIES
+from .sections import N_STORIES, level_heights
 
 __all__ = ["Sac9Frame", "Sac9FrameParams", "plot_pushover"]
 
@@ -94,11 +94,18 @@ class Sac9Frame(OpenSeesStructure):
 
     name = "sac9-frame"
     Params = Sac9FrameParams
-    capabilities = frozenset({"equivalent_linear_system", "coarse_simulation"})
+    capabilities = frozenset({"equivalent_linear_system", "coarse_simulation", "stories"})
 
     @property
     def output_names(self) -> tuple[str, ...]:
         return tuple(f"level-{level}" for level in range(2, N_STORIES + 1)) + ("roof",)
+
+    def stories(self) -> Stories:
+        """Nine stories, one above the other, the outputs being the floors bottom-up: the
+        first from the ground (level 1) to level 2, 5.49 m, the eight above 3.96 m each, up
+        to the roof."""
+        ground_to_roof = np.asarray(level_heights()[1:])
+        return Stories.stacked(tuple(np.diff(ground_to_roof).tolist()))
 
     @property
     def frame_config(self) -> FrameConfig:
