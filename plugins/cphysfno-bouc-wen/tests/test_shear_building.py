@@ -266,3 +266,15 @@ def test_a_wrong_building_fails_with_the_field_named(params, message) -> None:
 def test_an_unknown_law_lists_the_known_ones() -> None:
     with pytest.raises(RegistryError, match="known story_law names: .*bilinear"):
         ShearBuilding(masses=1e4, stiffnesses=1e7, n_stories=2, story_law={"name": "takeda"})
+
+
+def test_peak_drift_ratios_are_the_integrators_drifts_over_the_story_heights(strong) -> None:
+    from cphysfno_core import edp
+
+    heights = (4.0, 3.2, 3.0)
+    structure = building({"name": "bilinear", "yield_displacement": 0.01}, story_heights=heights)
+    response = structure.simulate(strong)
+    demands = edp.compute(response, structure, strong)
+    expected = np.abs(response.extras["story_drift"]).max(axis=1) / np.array(heights)
+    np.testing.assert_allclose(demands.pid, expected, rtol=1e-12)
+    assert structure.stories().lower == (None, 0, 1)

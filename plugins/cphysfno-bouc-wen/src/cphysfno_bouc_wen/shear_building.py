@@ -16,6 +16,7 @@ from cphysfno_core import (
     Params,
     Rayleigh,
     Responses,
+    Stories,
     StoryLaw,
     Structure,
     get_registry,
@@ -131,7 +132,13 @@ class ShearBuilding(Structure):
     name = "shear-building"
     Params = ShearBuildingParams
     capabilities = frozenset(
-        {"linear_system", "restoring_force", "coarse_simulation", "projected_simulation"}
+        {
+            "linear_system",
+            "restoring_force",
+            "coarse_simulation",
+            "projected_simulation",
+            "stories",
+        }
     )
 
     def __init__(self, **params: Any) -> None:
@@ -354,6 +361,11 @@ class ShearBuilding(Structure):
         mass, stiffness, _ = self._matrices
         omega, _ = elastic_modes(mass, stiffness)
         return 2.0 * np.pi / omega[: int(n)]
+
+    def stories(self) -> Stories:
+        """The stories one above the other, the outputs being the floors bottom-up, each
+        ``story_heights`` high (m)."""
+        return Stories.stacked(tuple(float(h) for h in self.story_heights))
 
     def linear_system(self) -> LinearSystem:
         """Masses (kg), damping (N s/m), initial stiffness (N/m), influence ones, identity
