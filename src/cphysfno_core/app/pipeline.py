@@ -22,7 +22,13 @@ from ..model.composite import CompositeModel
 from ..model.parts import model_label
 from ..model.training import resolve_device
 from ..reporting import against_physics, metrics
-from ..reporting.evaluation import Evaluation, interval_coverage_scores, metric_row
+from ..reporting.evaluation import (
+    EDPScorer,
+    Evaluation,
+    edp_interval_scores,
+    interval_coverage_scores,
+    metric_row,
+)
 from ..signals.errors import DatasetError
 from ..signals.progress import show_progress
 
@@ -143,6 +149,12 @@ def evaluate(
     Refined models also report the test coverage of their 68 % and 90 % intervals and its
     standard error (:func:`~cphysfno_core.metrics.coverage_standard_error` over the test
     records and the records the refiner was calibrated on).
+
+    Where the structure declares its stories, every row also gets its EDP errors on the
+    test records (``edp``: :func:`~cphysfno_core.edp.log_errors` of PID per story and PFA
+    per floor), refined models the coverage of the drift bounds their intervals give
+    (``edp_coverage_68``, ``edp_coverage_90``), and the document an ``edp`` block naming
+    the stories and floors (``null`` for a structure without stories).
     """
     out = Path(out)
     data = load_dataset(dataset or out / DATASET)
@@ -155,11 +167,16 @@ def evaluate(
     val_gm, val_u = data.motions("val"), data.targets("val")
     results: dict[str, dict[str, Any]] = {}
     predictions: dict[str, Any] = {}
+    structure = get_registry().create("structure", config.structure.name, **config.structure.params)
+    stories = structure.stories() if "stories" in structure.capabilities else None
+    scorer = EDPScorer(stories, data, test_gm)
     for pp in config.preprocessor:
-        results[f"physics-{pp.name}"] = {
+        label = f"physics-{pp.name}"
+        results[label] = {
             **metric_row(data.physics(pp.name, "test"), test_u),
             "validation_rel_l2": metrics.relative_l2(data.physics(pp.name, "val"), val_u).tolist(),
         }
+        results[label].update(scorer.errors(label, data.physics(pp.name, "test")))
     for label in model_labels(config):
         directory = out / MODELS / label
         if not (directory / "model.json").exists():
@@ -169,6 +186,7 @@ def evaluate(
         stages = model.predict_stages(test_gm, z=z)
         predictions[label] = stages
         results[label] = metric_row(stages.mean, test_u)
+        results[label].update(scorer.errors(label, stages.mean))
         if model.preprocessor is not None:
             name = model.preprocessor.name
             validation = model.predict_stages(val_gm, z=data.physics(name, "val")).mean
@@ -181,6 +199,17 @@ def evaluate(
                     model.refiner, stages.z, stages.operator_output, test_u, calibrated_on
                 )
             )
+            if scorer.truth is not None:
+                results[label].update(
+                    edp_interval_scores(
+                        model.refiner,
+                        stages.z,
+                        stages.operator_output,
+                        scorer.stories,
+                        test_gm,
+                        scorer.truth,
+                    )
+                )
         results[label]["best_epoch"] = model.history_.best_epoch
         results[label]["train_seconds"] = model.history_.seconds
         results[label]["device"] = model.history_.device
@@ -196,9 +225,10 @@ def evaluate(
         "precision": config.training.precision,
         "worse_than_physics": worse,
         "chosen_forms": chosen,
+        "edp": scorer.describe(),
     }
     (out / "metrics.json").write_text(json.dumps(document, indent=2))
-    return Evaluation(data, predictions, results, worse, chosen)
+    return Evaluation(data, predictions, results, worse, chosen, scorer.truth, scorer.predicted)
 
 
 def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Evaluation:

@@ -166,6 +166,56 @@ def peaks(
     return _save(fig, path)
 
 
+def edp_scatter(
+    true_pid: np.ndarray,
+    predicted_pid: dict[str, np.ndarray],
+    story_names: list[str],
+    path: Path,
+) -> Path:
+    """Predicted vs simulated peak story drift ratio (in %) across records, one panel per
+    story, every model in its own colour and marker (:func:`model_styles`); arrays are
+    ``[n_records, n_stories]``, dimensionless."""
+    n = true_pid.shape[1]
+    columns = min(n, 5)
+    rows = -(-n // columns)
+    width = 2.8 * columns + 0.4
+    legend_columns = max(1, min(len(predicted_pid), int(width // 2.7)))
+    legend_rows = -(-len(predicted_pid) // legend_columns)
+    height = 2.7 * rows + 0.3 + 0.22 * legend_rows
+    fig, axes = _subplots(rows, columns, figsize=(width, height), squeeze=False)
+    styles = model_styles(len(predicted_pid))
+    for story, ax in enumerate(axes.flat):
+        if story >= n:
+            ax.set_visible(False)
+            continue
+        values = [true_pid[:, story], *(p[:, story] for p in predicted_pid.values())]
+        upper = 100 * 1.05 * max(float(np.nanmax(v)) for v in values)
+        upper = upper if np.isfinite(upper) and upper > 0 else 1.0
+        ax.plot([0, upper], [0, upper], color="k", lw=0.8)
+        for (label, pid), style in zip(predicted_pid.items(), styles, strict=True):
+            ax.scatter(
+                100 * true_pid[:, story],
+                100 * pid[:, story],
+                s=9,
+                alpha=0.7,
+                color=style["color"],
+                marker=style["marker"],
+                label=label,
+            )
+        ax.set_xlim(0, upper)
+        ax.set_ylim(0, upper)
+        ax.set_title(story_names[story], fontsize=9)
+        if story % columns == 0:
+            ax.set_ylabel("predicted PID (%)")
+        if story >= n - columns:
+            ax.set_xlabel("simulated PID (%)")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=legend_columns, fontsize=7)
+    fig.tight_layout(rect=(0, (0.22 * legend_rows + 0.1) / height, 1, 1))
+    fig.savefig(path, dpi=DPI)
+    return path
+
+
 def hysteresis(
     drift: np.ndarray, shear: np.ndarray, stories: list[int], names: list[str], path: Path
 ) -> Path:

@@ -14,6 +14,7 @@ from ..data.layout import MODELS
 from ..signals.intensity import SpectrumBand
 from . import figures
 from .against_physics import describe_shortfalls
+from .edp import ACCELERATION_EXTRA
 from .evaluation import Evaluation
 from .paper_tables import PaperTable, paper_table
 
@@ -142,6 +143,15 @@ def write_figures(
             title=f"ground motions: {len(data.ag)} records",
         )
     )
+    if evaluation.true_edps is not None and evaluation.predicted_edps:
+        written.append(
+            figures.edp_scatter(
+                evaluation.true_edps.pid,
+                {k: v.pid for k, v in evaluation.predicted_edps.items()},
+                list(evaluation.true_edps.stories.names),
+                directory / "edp_scatter.png",
+            )
+        )
     histories = {}
     for label in stages:
         model_json = out / MODELS / label / "model.json"
@@ -207,6 +217,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         ]
         lines.append(f"| {label} | {row['peak_r2']:.3f} | {' | '.join(cells)} |")
     lines += _coverage_error_note(models)
+    lines += _edp_section(evaluation, config.structure.name)
     lines += _against_physics_section(evaluation)
     if written:
         lines += ["", "## Figures", ""]
@@ -254,4 +265,72 @@ def _against_physics_section(evaluation: Evaluation) -> list[str]:
     if evaluation.chosen_forms:
         lines += ["", "Chosen on the validation split, where both forms were trained:", ""]
         lines += [f"- {paper}: `{chosen}`" for paper, chosen in evaluation.chosen_forms.items()]
+    return lines
+
+
+def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
+    """Each model's EDP errors on the test records and the coverage of the refined models'
+    drift bounds; a one-line note for a structure without stories."""
+    lines = ["", "## Engineering demand parameters (test split)", ""]
+    truth = evaluation.true_edps
+    if truth is None:
+        return lines + [
+            f"The structure `{structure}` declares no stories, so no story drifts or floor "
+            "accelerations are computed."
+        ]
+    models = {k: v for k, v in evaluation.metrics.items() if "edp" in v}
+    stories = list(truth.stories.names)
+    floors = truth.floor_names(list(evaluation.data.output_names))[1:]
+    source = (
+        "Simulated PFA is read from the structure's absolute acceleration channel, predicted PFA"
+        if evaluation.data.extras.get(ACCELERATION_EXTRA) is not None
+        else "PFA, simulated and predicted, is"
+    )
+    median_pid = ", ".join(f"{100 * v:.3g}" for v in np.nanmedian(truth.pid, axis=0))
+    median_pfa = ", ".join(f"{v:.3g}" for v in np.nanmedian(truth.pfa[:, 1:], axis=0))
+    lines += [
+        f"|ln(predicted / simulated)| over the {truth.pid.shape[0]} test records, median "
+        "(90th percentile), of the peak story drift ratio (PID) per story and of the peak "
+        "absolute floor acceleration (PFA) per floor above the ground; 0.10 is about a "
+        f"10 % error. {source} computed from displacement by a centred second difference "
+        "(`cphysfno_core.edp.compute`), which turns wiggles of e m in a predicted history "
+        "into up to 4 e / dt² m/s².",
+        "",
+        f"Simulated median PID per story: {median_pid} %; median PFA per floor: {median_pfa} m/s².",
+        "",
+        "### Peak story drift ratio",
+        "",
+    ]
+    lines += _edp_table(models, "PID", stories)
+    lines += ["", "### Peak floor acceleration", ""]
+    lines += _edp_table(models, "PFA", floors)
+    refined = {k: v for k, v in models.items() if "edp_coverage_68" in v}
+    if refined:
+        lines += [
+            "",
+            "### Drift bounds from the refined intervals",
+            "",
+            "Share of test records whose simulated PID (RID) lies within the bounds that the "
+            "68 % and 90 % displacement intervals give by interval arithmetic on the floors' "
+            "bands (`cphysfno_core.edp.band_interval`), per story:",
+            "",
+            "| model | PID, 68 % | PID, 90 % | RID, 68 % | RID, 90 % |",
+            "|---|---|---|---|---|",
+        ]
+        for label, row in refined.items():
+            cells = [
+                ", ".join(f"{c:.2f}" for c in row[f"edp_coverage_{level}"][key])
+                for key in ("PID", "RID")
+                for level in (68, 90)
+            ]
+            lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _edp_table(models: dict[str, dict], key: str, names: list[str]) -> list[str]:
+    lines = ["| model | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
+    for label, row in models.items():
+        errors = row["edp"][key]
+        cells = [f"{m:.3f} ({p:.3f})" for m, p in zip(errors["median"], errors["p90"], strict=True)]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
