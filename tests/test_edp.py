@@ -198,3 +198,13 @@ def test_wrong_inputs_are_refused_with_what_to_change():
     nan = u.copy()
     nan[0, 50:] = np.nan
     assert np.isnan(edp.compute(nan, TWO_STORIES, motions).pid).all()
+
+
+def test_a_composite_models_prediction_gets_edps_and_drift_bounds(trained_toy):
+    model, motions = trained_toy
+    mean, std = model.predict(motions)
+    predicted = edp.compute(mean, TWO_STORIES, motions)
+    assert predicted.pid.shape == (12, 2) and predicted.pfa.shape == (12, 3)
+    bounds = edp.interval(mean, std, TWO_STORIES, motions, k=1.0)
+    assert np.all(bounds.pid_lower <= predicted.pid) and np.all(predicted.pid <= bounds.pid_upper)
+    assert np.all(bounds.rid_lower <= predicted.rid) and np.all(predicted.rid <= bounds.rid_upper)
