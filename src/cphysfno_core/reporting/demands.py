@@ -1,0 +1,314 @@
+"""Demand samples for the loss assessment tool pelicun 3 (FEMA P-58).
+
+:func:`write_pelicun_demands` writes peak story drift ratios, residual story drift ratios
+and peak floor accelerations as the CSV file that pelicun's
+``DemandModel.load_sample`` reads::
+
+    from cphysfno_core.reporting.demands import write_pelicun_demands
+
+    written = write_pelicun_demands("demands.csv", pid, rid, pfa, collapsed=collapsed)
+
+    from pelicun.assessment import Assessment
+
+    assessment = Assessment({"PrintLog": False})
+    assessment.demand.load_sample(str(written.path))  # a str: pelicun rejects a Path
+
+pelicun is an optional dependency (the ``dev`` extra); this module writes the file
+without it.
+
+**The file pelicun reads** (pelicun 3.10; paths inside the ``pelicun`` package):
+
+- ``model/demand_model.py``, ``DemandModel.load_sample(filepath)`` calls
+  ``file_io.load_data(filepath, unit_conversion_factors, return_units=True)``;
+  ``file_io.load_from_file`` reads it with ``pandas.read_csv(header=0, index_col=0)``.
+  The path must be a ``str`` (``load_data`` raises ``TypeError`` for a ``Path``) and must
+  end in ``.csv`` (``load_from_file`` raises ``ValueError`` otherwise).
+- The first column is a row label. The row labelled ``Units`` (any case) holds each
+  column's unit; ``load_data`` removes it and multiplies each column by that unit's factor
+  from ``settings/default_units.json`` (``base.parse_units``). A unit missing from that
+  table is taken as factor 1 without a warning (``unit_conversion_factors.get(unit,
+  1.00)``), so the unit names must be exactly the table's. The other rows are the
+  realisations; their labels are dropped (the sample is renumbered 0, 1, ...).
+- Column labels are split on ``-`` (``base.convert_to_MultiIndex``); ``parse_header`` in
+  ``load_sample`` takes four parts as ``event-type-location-direction`` and drops the
+  event (the same docstring says that part will be required in a later version), three
+  parts as ``type-location-direction``. This module writes the event ``1``, as pelicun's
+  own ``examples/001/demands_s4.csv`` does: ``1-PID-1-1``.
+- Demand types are the acronyms of ``EDP_TYPES`` in ``dlml/vocabulary.py`` (the
+  ``simcenter-dlml`` package pelicun depends on): ``PID`` (story drift ratio, unit type
+  unitless), ``RID`` (residual interstory drift ratio, unitless), ``PFA`` (peak floor
+  acceleration, acceleration). The acceleration units of ``default_units.json`` are
+  ``mps2`` (1, the base unit), ``inps2``/``inchps2`` (0.0254), ``ftps2`` (0.3048) and
+  ``g`` (9.80665); ``unitless`` and ``rad`` both have factor 1, and pelicun labels drift
+  ratios ``unitless`` when it assigns units itself (``assessment._add_units``).
+- Inside pelicun the sample is in base units (PFA in m/s^2); ``DemandModel.save_sample``
+  and ``DemandModel.user_units`` give it back in the file's units.
+- Locations: the damage model asks a component at location ``L`` for demand
+  ``TYPE-(L + offset)-DIR`` (``_get_required_demand_type`` in ``model/demand_model.py``),
+  with ``offset`` its fragility's ``Demand/Offset`` plus the option ``DemandOffset``,
+  by default ``{"PFA": -1, "PFV": -1}`` (``settings/default_config.json``). So
+  ``PID-L`` is the drift of story ``L`` (1 = the first story), ``PFA-0`` the ground and
+  ``PFA-k`` floor level ``k`` at the top of story ``k``: a component in story ``L`` reads
+  the acceleration of the floor it stands on, ``PFA-(L-1)``, unless its fragility adds
+  +1. ``RID-L`` is per story like ``PID-L`` (``DemandModel.estimate_RID`` writes RID at
+  the PID's locations; ``DLCalculationAssessment.calculate_asset`` puts its
+  ``excessiveRID`` component at every RID location).
+- A column ``ERROR`` marks realisations to leave out: ``load_sample`` drops every row
+  whose ``ERROR`` value is nonzero and logs "Based on the values in the ERROR column, N
+  demand samples were removed".
+
+**Collapse.** pelicun has no collapse value in a demand sample: a demand sample holds
+the realisations of the structure that stands, and the probability of collapse enters
+through a collapse fragility, the ``collapse`` component of the damage model
+(``Assessment.calculate_damage(collapse_fragility_configuration=...)``, or
+``DL/Damage/CollapseFragility`` with ``DemandType``, ``CapacityMedian`` and ``Theta_1``
+in a ``DL_calculation`` configuration). The one place pelicun recognises collapsed
+realisations in demands is ``DLCalculationAssessment.calculate_demand``: the option
+``DL/Demands/CollapseLimits`` (``{"PID": 0.06}`` in ``examples/001/input.json``) removes
+every realisation whose largest demand of that type exceeds the limit, before the demand
+distribution is fitted. A collapsed record written with a very large drift would therefore
+be kept as a real demand by ``load_sample`` (only that option removes it), and one written
+with NaN is kept too and makes the calibration fail (with a lognormal fit: "Conversion to
+standard normal space was unsuccessful").
+
+So a collapsed record is written with ``ERROR`` = 1 (``collapsed_rows="error"``, the
+default): every record stays in the file, and pelicun leaves the collapsed ones out of
+its sample whichever way it is run (its library API or ``DL_calculation``, with or
+without collapse limits). ``collapsed_rows="omit"`` leaves them out of the file instead,
+for readers that know no ``ERROR`` column. Either way the collapse fraction is returned
+(:attr:`PelicunDemands.collapse_fraction`), for the collapse fragility given to pelicun
+(:func:`cphysfno_core.reporting.fragility.fit_lognormal` fits one over the intensities of
+many records).
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from ..signals.errors import InputError
+
+STANDARD_GRAVITY = 9.80665
+"""m/s^2 per g: the factor of unit ``g`` in pelicun's ``settings/default_units.json``."""
+
+EVENT = "1"
+"""The event part of the column labels (``1-PID-1-1``); pelicun drops it when it reads."""
+
+DIRECTION = "1"
+"""The direction part of the column labels: every demand is written in direction 1."""
+
+PFA_UNITS = {"g": STANDARD_GRAVITY, "mps2": 1.0}
+"""The units :func:`write_pelicun_demands` writes peak floor accelerations in, by
+pelicun's name, each with the m/s^2 in one of it."""
+
+DRIFT_UNIT = "unitless"
+"""pelicun's unit of drift ratios (``rad`` has the same factor, 1)."""
+
+ERROR_COLUMN = f"{EVENT}-ERROR--"
+"""The column that marks collapsed records (1) for pelicun to leave out."""
+
+
+@dataclass(frozen=True)
+class PelicunDemands:
+    """What :func:`write_pelicun_demands` wrote.
+
+    Attributes:
+        path: the CSV file.
+        n_records: records handed in.
+        n_collapsed: collapsed ones among them (0 when none were marked).
+        columns: the demand columns' labels, in the file's order (``1-PID-1-1``, ...,
+            without ``ERROR``).
+        units: the unit of each of ``columns``, pelicun's name for it.
+    """
+
+    path: Path
+    n_records: int
+    n_collapsed: int
+    columns: tuple[str, ...]
+    units: tuple[str, ...]
+
+    @property
+    def n_sampled(self) -> int:
+        """Records in pelicun's demand sample once it has read the file: those that stood."""
+        return self.n_records - self.n_collapsed
+
+    @property
+    def collapse_fraction(self) -> float:
+        """Collapsed records over all records."""
+        return self.n_collapsed / self.n_records
+
+
+def write_pelicun_demands(
+    path: str | os.PathLike[str],
+    pid: np.ndarray,
+    rid: np.ndarray | None,
+    pfa: np.ndarray,
+    collapsed: np.ndarray | None = None,
+    *,
+    pfa_unit: Literal["g", "mps2"] = "g",
+    collapsed_rows: Literal["error", "omit"] = "error",
+) -> PelicunDemands:
+    """Write engineering demand parameters as a pelicun 3 demand sample (CSV).
+
+    The file has a header row, a ``Units`` row, and one row per record labelled with the
+    record's index in the arrays. Its columns are ``1-PID-s-1`` and ``1-RID-s-1`` for
+    stories ``s = 1 .. n_stories`` (``unitless``), ``1-PFA-k-1`` for floor levels
+    ``k = 0 .. n_stories`` (0 the ground) in ``pfa_unit``, and, with ``collapsed`` and
+    ``collapsed_rows="error"``, ``1-ERROR--`` (1 for a collapsed record, else 0). Values
+    are written with Python's shortest round-trip ``repr``; a collapsed record's values
+    that are not finite are left empty. The file replaces ``path`` in one step. See the
+    module's documentation for how pelicun reads it, and why collapse is written so.
+
+    Args:
+        path: the CSV file to write; it must end in ``.csv`` (pelicun reads no other).
+        pid: ``[n_records, n_stories]`` peak story drift ratios (m/m, dimensionless),
+            story 1 the lowest.
+        rid: ``[n_records, n_stories]`` residual story drift ratios, or None to write none
+            (pelicun can estimate them from the peak drifts: ``DemandModel.estimate_RID``).
+        pfa: ``[n_records, n_stories + 1]`` peak absolute floor accelerations in m/s^2,
+            column 0 the ground (the peak ground acceleration), column ``k`` the floor at
+            the top of story ``k``.
+        collapsed: ``[n_records]`` booleans, True for a record whose structure collapsed;
+            None when none did (no ``ERROR`` column is written).
+        pfa_unit: ``"g"`` (the default, the unit of the FEMA P-58 fragilities: the values
+            are divided by 9.80665) or ``"mps2"`` (m/s^2 as given). pelicun converts
+            either to m/s^2 when it reads the file.
+        collapsed_rows: ``"error"`` (the default) writes collapsed records with
+            ``ERROR`` = 1, which pelicun's ``load_sample`` drops; ``"omit"`` leaves them
+            out of the file (the remaining rows keep their record indices).
+
+    Returns:
+        What was written, with the number of collapsed records.
+
+    Raises:
+        InputError: an array's shape does not fit the others, ``collapsed`` is not
+            boolean, a record that did not collapse has a NaN or infinite value, a value is
+            negative, there are no records or every record collapsed (pelicun then has no
+            demand to sample: give it the collapse through its collapse fragility), or
+            ``path``, ``pfa_unit`` or ``collapsed_rows`` is not one pelicun reads.
+    """
+    path = Path(path)
+    if path.suffix != ".csv":
+        raise InputError(
+            f"pelicun demand sample: {path} must end in .csv, the only file type pelicun's "
+            "load_sample reads"
+        )
+    if pfa_unit not in PFA_UNITS:
+        raise InputError(
+            f"pelicun demand sample: pfa_unit={pfa_unit!r} is not one of {sorted(PFA_UNITS)}"
+        )
+    if collapsed_rows not in ("error", "omit"):
+        raise InputError(
+            f"pelicun demand sample: collapsed_rows={collapsed_rows!r} is neither 'error' "
+            "nor 'omit'"
+        )
+    pid = _as_table(pid, "pid")
+    n_records, n_stories = pid.shape
+    if n_records == 0 or n_stories == 0:
+        raise InputError(
+            f"pelicun demand sample: pid has shape {pid.shape}; it needs at least one record "
+            "and one story"
+        )
+    blocks = [("PID", pid, range(1, n_stories + 1), DRIFT_UNIT, 1.0)]
+    if rid is not None:
+        rid = _as_table(rid, "rid")
+        if rid.shape != pid.shape:
+            raise InputError(
+                f"pelicun demand sample: rid has shape {rid.shape}, pid {pid.shape}: both are "
+                "[n_records, n_stories]"
+            )
+        blocks.append(("RID", rid, range(1, n_stories + 1), DRIFT_UNIT, 1.0))
+    pfa = _as_table(pfa, "pfa")
+    if pfa.shape != (n_records, n_stories + 1):
+        raise InputError(
+            f"pelicun demand sample: pfa has shape {pfa.shape}; with pid {pid.shape} it must "
+            f"be {(n_records, n_stories + 1)}: the ground (column 0), then one floor at the "
+            "top of each story"
+        )
+    blocks.append(("PFA", pfa, range(n_stories + 1), pfa_unit, PFA_UNITS[pfa_unit]))
+    fell = _collapsed(collapsed, n_records)
+
+    for name, values, _, _, _ in blocks:
+        _check_values(name.lower(), values, fell)
+    n_collapsed = int(fell.sum())
+    if n_collapsed == n_records:
+        raise InputError(
+            f"pelicun demand sample: all {n_records} records collapsed, so there is no "
+            "demand of a standing structure for pelicun to sample: give pelicun the "
+            "collapse through its collapse fragility (collapse fraction 1) instead"
+        )
+
+    columns = [
+        f"{EVENT}-{name}-{place}-{DIRECTION}"
+        for name, _, places, _, _ in blocks
+        for place in places
+    ]
+    units = [unit for _, values, _, unit, _ in blocks for _ in range(values.shape[1])]
+    table = np.concatenate([values / per_unit for _, values, _, _, per_unit in blocks], axis=1)
+    flag = collapsed is not None and collapsed_rows == "error"
+    rows = [r for r in range(n_records) if collapsed_rows == "error" or not fell[r]]
+
+    temporary = path.with_name(f".{path.name}.tmp")
+    try:
+        with open(temporary, "w", newline="", encoding="utf-8") as handle:
+            writer = csv.writer(handle, lineterminator="\n")
+            writer.writerow(["", *columns, *([ERROR_COLUMN] if flag else [])])
+            writer.writerow(["Units", *units, *([""] if flag else [])])
+            for r in rows:
+                cells = [repr(float(v)) if np.isfinite(v) else "" for v in table[r]]
+                writer.writerow([str(r), *cells, *([str(int(fell[r]))] if flag else [])])
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return PelicunDemands(path, n_records, n_collapsed, tuple(columns), tuple(units))
+
+
+def _as_table(values: np.ndarray, name: str) -> np.ndarray:
+    table = np.asarray(values, dtype=np.float64)
+    if table.ndim != 2:
+        raise InputError(
+            f"pelicun demand sample: {name} has shape {table.shape}; it must be 2-D, "
+            "[n_records, columns]"
+        )
+    return table
+
+
+def _collapsed(collapsed: np.ndarray | None, n_records: int) -> np.ndarray:
+    if collapsed is None:
+        return np.zeros(n_records, dtype=bool)
+    fell = np.asarray(collapsed)
+    if fell.dtype != np.bool_:
+        raise InputError(
+            f"pelicun demand sample: collapsed has dtype {fell.dtype}; it must be boolean, "
+            "True for a collapsed record"
+        )
+    if fell.shape != (n_records,):
+        raise InputError(
+            f"pelicun demand sample: collapsed has shape {fell.shape}; it must be "
+            f"({n_records},), one value per record"
+        )
+    return fell
+
+
+def _check_values(name: str, values: np.ndarray, fell: np.ndarray) -> None:
+    bad = ~np.isfinite(values[~fell])
+    if bad.any():
+        record = int(np.flatnonzero(~fell)[np.flatnonzero(bad.any(axis=1))[0]])
+        raise InputError(
+            f"pelicun demand sample: {name} of record {record} is not finite "
+            f"({values[record].tolist()}), and the record is not marked collapsed: mark it "
+            "in `collapsed` or leave it out"
+        )
+    negative = np.isfinite(values) & (values < 0)
+    if negative.any():
+        record, column = (int(i) for i in np.argwhere(negative)[0])
+        raise InputError(
+            f"pelicun demand sample: {name} of record {record} is negative "
+            f"({float(values[record, column])!r} in column {column}); peak and residual drift "
+            "ratios and peak accelerations are magnitudes, >= 0"
+        )
