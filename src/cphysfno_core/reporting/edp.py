@@ -13,10 +13,10 @@ such as a composite model's predicted mean) with the ground motions that caused 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
+from ..api.interfaces import Structure
 from ..signals import GroundMotions, Responses, Stories
 from ..signals.errors import InputError
 
@@ -26,7 +26,7 @@ the absolute (total) acceleration of each output, ``[n, T, n_outputs]`` in m/s^2
 is there, :func:`compute` reads peak floor accelerations from it."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class EDPs:
     """The EDPs of each record.
 
@@ -57,7 +57,7 @@ class EDPs:
         return ["ground", *(output_names[i] for i in self.stories.floors)]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DriftInterval:
     """Bounds on the drift EDPs of each record, each ``[n_records, n_stories]``
     (dimensionless): ``pid_lower <= PID <= pid_upper`` and ``rid_lower <= RID <= rid_upper``
@@ -86,7 +86,7 @@ class DriftInterval:
         return found
 
 
-def stories_of(structure: Any) -> Stories:
+def stories_of(structure: Structure | Stories) -> Stories:
     """``structure.stories()``, or ``structure`` itself if it is :class:`Stories`.
 
     Raises:
@@ -115,7 +115,7 @@ def pad_free_vibration(motions: GroundMotions, seconds: float) -> GroundMotions:
 
 def compute(
     responses: Responses | np.ndarray,
-    structure: Any,
+    structure: Structure | Stories,
     motions: GroundMotions,
     *,
     free_vibration_s: float = 0.0,
@@ -196,7 +196,7 @@ def compute(
 def band_interval(
     lower: np.ndarray,
     upper: np.ndarray,
-    structure: Any,
+    structure: Structure | Stories,
     motions: GroundMotions,
     *,
     free_vibration_s: float = 0.0,
@@ -246,7 +246,7 @@ def band_interval(
 def interval(
     mean: np.ndarray,
     std: np.ndarray,
-    structure: Any,
+    structure: Structure | Stories,
     motions: GroundMotions,
     *,
     k: float = 1.0,
