@@ -12,13 +12,34 @@ from cphysfno_core import testing
 REGISTRY = cp.Registry()
 
 
+EXAMPLE_PARAMS = {
+    ("structure", "shear-building"): {
+        "masses": (2.0e4, 2.0e4, 1.5e4),
+        "stiffnesses": (4.0e7, 3.0e7, 2.0e7),
+        "story_law": {"name": "bilinear", "yield_displacement": 0.01},
+    },
+    ("story_law", "bilinear"): {"yield_displacement": 0.01},
+    ("story_law", "peak-oriented"): {"yield_displacement": 0.01},
+}
+"""Parameters for the components that have required ones."""
+
+
 def _names(kind):
     return REGISTRY.names(kind)
 
 
+def _create(kind, name):
+    return REGISTRY.create(kind, name, **EXAMPLE_PARAMS.get((kind, name), {}))
+
+
 @pytest.mark.parametrize("name", _names("structure"))
 def test_registered_structures_conform(name):
-    testing.check_structure(REGISTRY.create("structure", name))
+    testing.check_structure(_create("structure", name))
+
+
+@pytest.mark.parametrize("name", _names("story_law"))
+def test_registered_story_laws_conform(name):
+    testing.check_story_law(_create("story_law", name))
 
 
 @pytest.mark.parametrize("name", _names("ground_motion"))
@@ -29,7 +50,7 @@ def test_registered_ground_motion_sources_conform(name):
 @pytest.mark.parametrize("name", _names("preprocessor"))
 @pytest.mark.parametrize("structure_name", _names("structure"))
 def test_registered_preprocessors_conform_or_refuse(name, structure_name):
-    structure = REGISTRY.create("structure", structure_name)
+    structure = _create("structure", structure_name)
     preprocessor = REGISTRY.create("preprocessor", name)
     try:
         preprocessor.fit(structure)

@@ -1,21 +1,27 @@
-"""The own-building example runs end to end through the command line at tiny size."""
+"""The own-building example runs end to end through the command line at tiny size, and its
+run gives fragility curves and a pelicun demand sample."""
 
 import json
 import re
 from pathlib import Path
 
+import numpy as np
+import pytest
+
+from cphysfno_core import edp, load_dataset
 from cphysfno_core.app.cli import main
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "shear-building.toml"
 
 
-def test_the_shear_building_example_runs_end_to_end(tmp_path, capsys):
+@pytest.fixture(scope="module")
+def run(tmp_path_factory) -> Path:
     text = EXAMPLE.read_text()
     tiny = {
         "n_train": 8,
         "n_val": 4,
-        "n_test": 4,
-        "chunk_size": 8,
+        "n_test": 12,
+        "chunk_size": 12,
         "epochs": 2,
         "batch_size": 4,
         "layers": 2,
@@ -26,11 +32,68 @@ def test_the_shear_building_example_runs_end_to_end(tmp_path, capsys):
         text = re.sub(rf"(?m)^{key} = .*$", f"{key} = {value}", text)
     text = text.replace("modes = 16", "modes = 8")
     text = text.replace('name = "white-noise"', 'name = "white-noise"\nduration = 5.0')
-    path = tmp_path / "tiny.toml"
-    path.write_text(text.replace("chunk_size = 8", 'chunk_size = 8\nexecutor = "serial"'))
-    out = tmp_path / "out"
-    assert main(["run", str(path), "--out", str(out)]) == 0
-    assert "story-4" in capsys.readouterr().out
-    models = json.loads((out / "metrics.json").read_text())["models"]
+    folder = tmp_path_factory.mktemp("shear-building")
+    path = folder / "tiny.toml"
+    path.write_text(text.replace("chunk_size = 12", 'chunk_size = 12\nexecutor = "serial"'))
+    out = folder / "out"
+    assert main(["-q", "run", str(path), "--out", str(out)]) == 0
+    return out
+
+
+def test_the_shear_building_example_runs_end_to_end(run):
+    models = json.loads((run / "metrics.json").read_text())["models"]
     assert {"fno", "c-physfno-els", "c-physfno-modal", "c-physfno-relaxed"} <= set(models)
     assert all(len(row["rel_l2"]) == 4 for row in models.values())
+
+
+def _median_peak_drift(run: Path) -> float:
+    from cphysfno_core import create
+    from cphysfno_core.config.experiment import parse_config
+
+    config = parse_config(json.loads((run / "config.json").read_text()))
+    structure = create("structure", config.structure.name, **config.structure.params)
+    data = load_dataset(run / "dataset.h5")
+    demands = edp.compute(data.targets("test"), structure, data.motions("test"))
+    return float(np.median(demands.pid.max(axis=1)))
+
+
+def test_fragility_fits_simulation_and_surrogate_side_by_side(run, capsys):
+    threshold = _median_peak_drift(run)  # half the test records exceed it
+    arguments = ["fragility", str(run), "--records", "40", "--bootstrap", "10"]
+    assert main([*arguments, "--limit-states", f"pid={threshold:.6g}"]) == 0
+    printed = capsys.readouterr().out
+    assert "simulation | surrogate | surrogate-large" in printed
+    document = json.loads((run / "fragility" / "fragility.json").read_text())
+    assert document["large_records"] == 40 and document["test_records"] == 12
+    assert document["intensity_measure"]["name"] == "sa-t1"
+    (fits,) = document["limit_states"].values()
+    assert set(fits) == {"simulation", "surrogate", "surrogate-large"}
+    simulation = fits["simulation"]
+    assert simulation["n_exceeded"] == 6 and simulation["median"] > 0
+    low, high = simulation["median_interval"]
+    assert low <= simulation["median"] <= high
+    assert (run / "fragility" / "fragility.png").stat().st_size > 0
+    assert (run / "fragility" / "edp-im.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (["--im", "arias"], "unknown intensity measure 'arias'"),
+        (["--limit-states", "pid=5.0"], "no record exceeds it"),
+        (["--limit-states", "drift=0.01"], "demand one of pid, pfa"),
+        (["--model", "nothing"], "no saved model 'nothing'"),
+    ],
+)
+def test_fragility_refuses_what_it_cannot_fit(run, capsys, arguments, message):
+    assert main(["fragility", str(run), "--records", "10", *arguments]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_demands_writes_the_sample_pelicun_reads(run, capsys):
+    assert main(["demands", str(run)]) == 0
+    lines = (run / "demands" / "demands.csv").read_text().splitlines()
+    header, units = lines[0].split(","), lines[1].split(",")
+    assert header[1:5] == [f"1-PID-{s}-1" for s in range(1, 5)]
+    assert "1-PFA-0-1" in header and units[header.index("1-PFA-0-1")] == "g"
+    assert len(lines) == 2 + 12

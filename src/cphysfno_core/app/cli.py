@@ -166,6 +166,55 @@ def _predict(args: argparse.Namespace) -> int:
     return 0
 
 
+def _fragility(args: argparse.Namespace) -> int:
+    from .fragility_study import parse_limit_states, run_fragility
+
+    document = run_fragility(
+        Path(args.run),
+        limit_states=parse_limit_states(args.limit_states),
+        records=args.records,
+        motions_file=None if args.motions is None else Path(args.motions),
+        model_label=args.model,
+        measure=args.im,
+        n_bootstrap=args.bootstrap,
+        seed=args.seed,
+    )
+    unit = document["intensity_measure"]["unit"]
+    print(
+        f"model {document['model']}; {document['test_records']} test records "
+        f"({document['collapsed_test_records']} collapsed), {document['large_records']} "
+        f"surrogate records in {document['large_seconds']:.0f} s"
+    )
+    print(f"fragility medians ({unit}) and beta, simulation | surrogate | surrogate-large:")
+    for name, fits in document["limit_states"].items():
+        cells = " | ".join(
+            "not reached"
+            if fits[source]["median"] is None
+            else f"{fits[source]['median']:.4g}, {fits[source]['beta']:.2f}"
+            for source in ("simulation", "surrogate", "surrogate-large")
+        )
+        print(f"  {name:<14} {cells}")
+    print(f"\nwritten: {Path(args.run) / 'fragility'}")
+    return 0
+
+
+def _demands(args: argparse.Namespace) -> int:
+    from .demand_sample import write_demand_sample
+
+    written, label = write_demand_sample(
+        Path(args.run),
+        motions_file=None if args.motions is None else Path(args.motions),
+        model_label=args.model,
+        out=None if args.out is None else Path(args.out),
+    )
+    print(
+        f"model {label}: {written.n_records} records ({written.n_collapsed} collapsed, "
+        f"flagged in the ERROR column that pelicun drops), {len(written.columns)} demand "
+        f"columns\nwritten: {written.path}"
+    )
+    return 0
+
+
 def _print_means(summary: dict, over: str) -> None:
     """Print the per-output mean relative L2 of every model of a study summary."""
     from ..reporting.report import format_table
@@ -275,6 +324,49 @@ def build_parser() -> argparse.ArgumentParser:
         "about twice as fast on a CPU with native bfloat16, moving predictions by about 0.2 %%",
     )
     predict.set_defaults(func=_predict)
+    text = (
+        "fragility curves of a trained run: fitted from the simulated test records and from "
+        "the surrogate's predictions of them and of many new motions, side by side"
+    )
+    fragility = commands.add_parser("fragility", help=text, description=text)
+    fragility.add_argument("run", help="a folder written by cphysfno run")
+    fragility.add_argument(
+        "--limit-states",
+        default="pid=0.005,0.01,0.02",
+        help="thresholds, e.g. 'pid=0.005,0.01,0.02;pfa=5' (PID: the largest story drift "
+        "ratio; PFA: the largest floor acceleration, m/s^2); default %(default)s",
+    )
+    fragility.add_argument(
+        "--records", type=int, default=10_000, help="new motions drawn from the run's source"
+    )
+    fragility.add_argument(
+        "--motions", help="read the new motions from a file instead (as predict reads them)"
+    )
+    fragility.add_argument(
+        "--model", help="a model under RUN/models (default: the best refined C-Phys model "
+        "by validation)"
+    )  # fmt: skip
+    fragility.add_argument(
+        "--im",
+        default="sa-t1",
+        help="intensity measure: sa-t1 (5 %% damped, at the structure's T1), pga or pgv",
+    )
+    fragility.add_argument("--bootstrap", type=int, default=200, help="bootstrap resamples")
+    fragility.add_argument("--seed", type=int, default=0, help="seeds the motions and bootstrap")
+    fragility.set_defaults(func=_fragility)
+    text = (
+        "the demand sample of a trained run's surrogate (its test records or --motions) in "
+        "the CSV that pelicun 3 reads: PID, RID and PFA columns with a units row"
+    )
+    demands = commands.add_parser("demands", help=text, description=text)
+    demands.add_argument("run", help="a folder written by cphysfno run")
+    demands.add_argument(
+        "--format", choices=["pelicun"], default="pelicun", help="the file format (pelicun)"
+    )
+    demands.add_argument("--motions", help="predict these motions instead of the test records")
+    demands.add_argument("--model", help="a model under RUN/models (default: as fragility)")
+    demands.add_argument("--out", help="the CSV to write (default RUN/demands/demands.csv)")
+    demands.set_defaults(func=_demands)
     text = "summarise finished run folders (e.g. one per seed) as study.json does"
     summary = commands.add_parser("summarise", help=text, description=text)
     summary.add_argument("runs", nargs="+", help="folders written by cphysfno run")

@@ -27,6 +27,15 @@ BETA_FLOOR = 1e-3
 """Smallest dispersion a fit returns: records that separate perfectly at one intensity
 would drive the maximum-likelihood beta to zero."""
 
+BETA_CEILING = 3.0
+"""Largest dispersion a fit returns: records whose exceedance does not depend on the
+intensity (a narrow range of intensities, or demands that do not follow it) would drive
+beta and the median without bound."""
+
+MEDIAN_RANGE = 3.0
+"""A fitted median stays within ``exp(3)`` (about 20) times the records' range of
+intensities."""
+
 
 @dataclass(frozen=True)
 class Fragility:
@@ -103,6 +112,9 @@ def fit_lognormal(
 ) -> Fragility:
     """The maximum-likelihood lognormal fragility of records with intensities ``intensity``
     ``[n]`` (> 0) that did (True) or did not exceed a limit state, ``exceeded [n]``.
+    beta is kept within :data:`BETA_FLOOR` - :data:`BETA_CEILING` and the median within
+    :data:`MEDIAN_RANGE` of the intensities: a fit at a bound says the records do not
+    determine the curve.
 
     Raises:
         InputError: the arrays differ in length, an intensity is not positive, or no record
@@ -116,14 +128,19 @@ def fit_lognormal(
         z = (log_x - theta[0]) / np.exp(theta[1])
         return -(scipy.stats.norm.logcdf(z[y]).sum() + scipy.stats.norm.logcdf(-z[~y]).sum())
 
-    start = np.array([0.5 * (log_x[y].mean() + log_x[~y].mean()), np.log(max(log_x.std(), 0.1))])
+    bounds = [
+        (log_x.min() - MEDIAN_RANGE, log_x.max() + MEDIAN_RANGE),
+        (np.log(BETA_FLOOR), np.log(BETA_CEILING)),
+    ]
+    start = np.array([0.5 * (log_x[y].mean() + log_x[~y].mean()), np.log(0.4)])
     best = scipy.optimize.minimize(
         negative_log_likelihood,
         start,
-        method="Nelder-Mead",
-        options={"xatol": 1e-9, "fatol": 1e-12, "maxiter": 4000},
+        method="L-BFGS-B",
+        bounds=bounds,
+        options={"ftol": 1e-15, "gtol": 1e-10, "maxiter": 4000},
     )
-    return Fragility(float(np.exp(best.x[0])), float(max(np.exp(best.x[1]), BETA_FLOOR)))
+    return Fragility(float(np.exp(best.x[0])), float(np.exp(best.x[1])))
 
 
 def fit_with_intervals(

@@ -1,0 +1,370 @@
+"""``cphysfno fragility RUN``: fragility curves of a trained run, from simulation and from
+the surrogate, side by side.
+
+On the run's test records the curves are fitted twice, from the simulated truth and from
+the surrogate's prediction of the same records; then from the surrogate alone on a large
+number of new motions drawn from the run's ground-motion source (or read from a file).
+Each curve is a lognormal fragility fitted by maximum likelihood on exceedance
+(:mod:`cphysfno_core.reporting.fragility`) against an intensity measure: Sa(T1, 5 %) at
+the structure's first elastic period, PGA or PGV.
+
+The demand of a record is the largest over stories of its peak story drift ratio (PID),
+or the largest over floors of its peak absolute floor acceleration (PFA, m/s^2). A record
+that collapsed the structure exceeds every limit state in the simulation curves. The
+surrogate does not predict collapse: its curves combine the probability of collapse,
+fitted against the intensity measure on the simulated records, with the surrogate's
+demands by total probability, ``P(C) + (1 - P(C)) P(exceed | no collapse)``, summarised
+by the lognormal closest to that curve; their intervals are those of the non-collapse
+part.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..api.registry import get_registry
+from ..config.experiment import parse_config
+from ..data.datasets import load_dataset
+from ..data.layout import DATASET, MODELS
+from ..model.composite import CompositeModel
+from ..model.prediction_files import read_motions
+from ..reporting import edp
+from ..reporting.fragility import (
+    Fragility,
+    fit_lognormal,
+    fit_with_intervals,
+    lognormal_through,
+    with_collapse,
+)
+from ..reporting.fragility_figures import plot_demand_cloud, plot_fragility
+from ..signals import GroundMotions
+from ..signals.errors import ConfigError, InputError
+from ..signals.intensity import (
+    peak_ground_acceleration,
+    peak_ground_velocity,
+    response_spectrum,
+)
+from ..signals.progress import show_progress
+
+INTENSITY_MEASURES = {
+    "sa-t1": "Sa(T1), 5 % damped, m/s^2",
+    "pga": "PGA, m/s^2",
+    "pgv": "PGV, m/s",
+}
+"""The intensity measures a fragility can be fitted against, with their units."""
+
+DEMANDS = {"pid": "peak story drift ratio (largest over stories)", "pfa": "PFA, m/s^2"}
+"""The demands a limit state can be set on."""
+
+CHUNK = 500
+"""Records predicted at a time for the large analysis (bounded memory)."""
+
+
+@dataclass(frozen=True)
+class LimitState:
+    """A threshold on a demand.
+
+    Attributes:
+        demand: ``"pid"`` or ``"pfa"``.
+        threshold: the value exceeded (drift ratio, or m/s^2).
+    """
+
+    demand: str
+    threshold: float
+
+    @property
+    def name(self) -> str:
+        return f"{self.demand} > {self.threshold:g}"
+
+
+def parse_limit_states(text: str) -> list[LimitState]:
+    """``"pid=0.005,0.01;pfa=5"`` as limit states.
+
+    Raises:
+        ConfigError: an unknown demand or a threshold that is not a number > 0.
+    """
+    states = []
+    for part in filter(None, (p.strip() for p in text.split(";"))):
+        demand, _, values = part.partition("=")
+        demand = demand.strip().lower()
+        if demand not in DEMANDS or not values:
+            raise ConfigError(
+                f"limit states: '{part}' is not demand=value[,value...] with demand one of "
+                f"{', '.join(DEMANDS)} (e.g. pid=0.005,0.01,0.02)"
+            )
+        for value in values.split(","):
+            try:
+                threshold = float(value)
+            except ValueError:
+                raise ConfigError(f"limit states: '{value}' is not a number") from None
+            if not threshold > 0:
+                raise ConfigError(f"limit states: thresholds must be > 0, got {threshold}")
+            states.append(LimitState(demand, threshold))
+    if not states:
+        raise ConfigError("limit states: give at least one, e.g. pid=0.005,0.01,0.02")
+    return states
+
+
+def intensity(name: str, motions: GroundMotions, first_period: float) -> np.ndarray:
+    """``[n]`` intensity measure ``name`` of every record.
+
+    Raises:
+        ConfigError: an unknown name (the message lists the known ones).
+    """
+    if name == "sa-t1":
+        spectrum = response_spectrum(motions.acceleration, motions.dt, [first_period])
+        return spectrum.pseudo_acceleration[:, 0]
+    if name == "pga":
+        return peak_ground_acceleration(motions.acceleration)
+    if name == "pgv":
+        return peak_ground_velocity(motions.acceleration, motions.dt)
+    raise ConfigError(
+        f"unknown intensity measure '{name}': use one of {', '.join(INTENSITY_MEASURES)}"
+    )
+
+
+def default_model(metrics: dict[str, Any]) -> str:
+    """The model a fragility uses unless told: the refined C-Phys model with the lowest
+    mean validation relative L2 (else any C-Phys model, else any trained model).
+
+    Raises:
+        ConfigError: the run has no trained model.
+    """
+    rows = {
+        label: row
+        for label, row in metrics.get("models", {}).items()
+        if not label.startswith("physics-")
+    }
+    if not rows:
+        raise ConfigError("this run has no trained model: run `cphysfno train` first")
+
+    def score(label: str) -> float:
+        values = rows[label].get("validation_rel_l2", rows[label]["rel_l2"])
+        return float(np.mean(values))
+
+    for prefix in ("refined-c-phys", "c-phys", ""):
+        candidates = [label for label in rows if label.startswith(prefix)]
+        if candidates:
+            return min(candidates, key=score)
+    raise AssertionError("unreachable")
+
+
+def demand_values(demands: edp.EDPs, demand: str) -> np.ndarray:
+    """``[n]`` the demand of each record: the largest PID over stories or PFA over floors
+    (floor 0, the ground, left out)."""
+    if demand == "pid":
+        return np.max(demands.pid, axis=1)
+    return np.max(demands.pfa[:, 1:], axis=1)
+
+
+def run_fragility(
+    run: Path,
+    *,
+    limit_states: list[LimitState],
+    records: int = 10_000,
+    motions_file: Path | None = None,
+    model_label: str | None = None,
+    measure: str = "sa-t1",
+    n_bootstrap: int = 200,
+    seed: int = 0,
+    progress: bool = True,
+) -> dict[str, Any]:
+    """Fit the fragility curves of a trained run and write ``RUN/fragility/``
+    (``fragility.json``, ``fragility.png``, ``edp-im.png``).
+
+    Args:
+        run: a folder written by ``cphysfno run`` (``config.json``, ``metrics.json``,
+            ``dataset.h5``, ``models/``).
+        limit_states: the thresholds to fit.
+        records: motions of the large analysis, drawn from the run's ground-motion source
+            with ``seed`` (ignored with ``motions_file``).
+        motions_file: motions of the large analysis from a file instead (as
+            ``cphysfno predict`` reads them).
+        model_label: the model under ``models/``; default :func:`default_model`.
+        measure: the intensity measure (:data:`INTENSITY_MEASURES`).
+        n_bootstrap: bootstrap resamples of each fit.
+        seed: seeds the draw of motions and the bootstrap.
+        progress: print progress lines.
+
+    Returns:
+        The document written to ``fragility.json``.
+
+    Raises:
+        ConfigError: the run is not finished, the model or intensity measure is unknown.
+        InputError: a limit state that no record (or every record) reaches.
+    """
+    run = Path(run)
+    if measure not in INTENSITY_MEASURES:
+        raise ConfigError(
+            f"unknown intensity measure '{measure}': use one of {', '.join(INTENSITY_MEASURES)}"
+        )
+    for needed in ("config.json", "metrics.json", DATASET):
+        if not (run / needed).is_file():
+            raise ConfigError(f"{run} is not a finished run: it has no {needed}")
+    config = parse_config(json.loads((run / "config.json").read_text()))
+    metrics = json.loads((run / "metrics.json").read_text())
+    label = model_label or default_model(metrics)
+    folder = run / MODELS / label
+    if not (folder / "model.json").is_file():
+        known = sorted(p.name for p in (run / MODELS).iterdir() if (p / "model.json").is_file())
+        raise ConfigError(
+            f"no saved model '{label}' in {run / MODELS}: use one of {', '.join(known)}"
+        )
+    model = CompositeModel.load(folder)
+    spec = config.structure
+    structure = get_registry().create("structure", spec.name, **spec.params)
+    t1 = float(structure.periods(1)[0])
+    data = load_dataset(run / DATASET)
+
+    rows = data._split_rows("test")
+    motions = GroundMotions(data.ag[rows], data.dt)
+    collapsed = data.collapsed[rows]
+    standing = ~collapsed & ~np.isin(rows, list(data.failures))
+    im_test = intensity(measure, motions, t1)
+    truth = edp.compute(data.u[rows], structure, motions)
+    mean, _ = model.predict(motions[np.flatnonzero(standing)])
+    predicted = edp.compute(mean, structure, motions[np.flatnonzero(standing)])
+
+    started = time.perf_counter()
+    large_im, large_demands = _large_analysis(
+        model, structure, config, records, motions_file, measure, t1, seed, progress
+    )
+    large_seconds = time.perf_counter() - started
+
+    rng = np.random.default_rng(seed)
+    collapse = None
+    if collapsed.any() and not collapsed.all():
+        collapse = fit_lognormal(im_test, collapsed, what="collapse")
+    document: dict[str, Any] = {
+        "run": str(run),
+        "model": label,
+        "intensity_measure": {"name": measure, "unit": INTENSITY_MEASURES[measure], "t1_s": t1},
+        "test_records": int(rows.size),
+        "collapsed_test_records": int(collapsed.sum()),
+        "large_records": int(large_im.size),
+        "large_seconds": round(large_seconds, 1),
+        "collapse": None
+        if collapse is None
+        else {"median": collapse.median, "beta": collapse.beta},
+        "limit_states": {},
+    }
+    grid = np.geomspace(
+        min(im_test.min(), large_im.min()) / 3.0, max(im_test.max(), large_im.max()) * 3.0, 400
+    )
+    curves = {}
+    for state in limit_states:
+        what = f"{state.name} ({measure})"
+        simulated = np.where(collapsed, True, demand_values(truth, state.demand) > state.threshold)
+        simulation = fit_with_intervals(
+            im_test, simulated, rng, n_bootstrap, what=what + ", simulation"
+        )
+        surrogate = _surrogate_fit(
+            im_test[standing], demand_values(predicted, state.demand) > state.threshold,
+            collapse, grid, rng, n_bootstrap, what + ", surrogate",
+        )  # fmt: skip
+        large = _surrogate_fit(
+            large_im, demand_values(large_demands, state.demand) > state.threshold,
+            collapse, grid, rng, n_bootstrap, what + ", surrogate-large",
+        )  # fmt: skip
+        document["limit_states"][state.name] = {
+            "simulation": simulation.to_dict(),
+            "surrogate": surrogate,
+            "surrogate-large": large,
+        }
+        curves[state.name] = {"simulation": simulation.fragility}
+        for source, fit in (("surrogate", surrogate), ("surrogate-large", large)):
+            if fit["median"] is not None:
+                curves[state.name][source] = Fragility(fit["median"], fit["beta"])
+    out = run / "fragility"
+    out.mkdir(exist_ok=True)
+    (out / "fragility.json").write_text(json.dumps(document, indent=2) + "\n")
+    plot_fragility(curves, im_test, INTENSITY_MEASURES[measure], out / "fragility.png")
+    plot_demand_cloud(
+        {"simulation (test)": (im_test, demand_values(truth, "pid")),
+         "surrogate (test)": (im_test[standing], demand_values(predicted, "pid")),
+         "surrogate (large)": (large_im, demand_values(large_demands, "pid"))},
+        INTENSITY_MEASURES[measure], "peak story drift ratio", out / "edp-im.png",
+    )  # fmt: skip
+    return document
+
+
+def _surrogate_fit(
+    im: np.ndarray,
+    exceeded: np.ndarray,
+    collapse: Fragility | None,
+    grid: np.ndarray,
+    rng: np.random.Generator,
+    n_bootstrap: int,
+    what: str,
+) -> dict[str, Any]:
+    """The surrogate's curve: its non-collapse fit, combined with ``collapse`` when there
+    is one and summarised by the closest lognormal; ``median`` and ``beta`` None, with the
+    reason in ``note``, when the surrogate's records do not give both outcomes (a
+    surrogate that never predicts the limit state is a finding, not an error)."""
+    try:
+        fit = fit_with_intervals(im, exceeded, rng, n_bootstrap, what=what)
+    except InputError as error:
+        return {"median": None, "beta": None, "note": str(error), "n_records": int(im.size)}
+    result = fit.to_dict()
+    if collapse is not None:
+        combined = lognormal_through(with_collapse(fit.fragility, collapse, grid), grid)
+        result.update(
+            {
+                "median": combined.median,
+                "beta": combined.beta,
+                "non_collapse": {"median": fit.fragility.median, "beta": fit.fragility.beta},
+            }
+        )
+    return result
+
+
+def _large_analysis(
+    model: CompositeModel,
+    structure: Any,
+    config: Any,
+    records: int,
+    motions_file: Path | None,
+    measure: str,
+    t1: float,
+    seed: int,
+    progress: bool,
+) -> tuple[np.ndarray, edp.EDPs]:
+    """Intensities ``[N]`` and EDPs of the surrogate's predictions for the large set,
+    predicted :data:`CHUNK` records at a time."""
+    if motions_file is not None:
+        source_motions = read_motions(motions_file)
+        n = source_motions.n_records
+    else:
+        if records < 1:
+            raise InputError(f"--records must be at least 1, got {records}")
+        spec = config.ground_motion
+        source = get_registry().create("ground_motion", spec.name, **spec.params)
+        rng = np.random.default_rng([seed, 7919])
+        n = records
+    intensities, parts = [], []
+    started = time.perf_counter()
+    for start in range(0, n, CHUNK):
+        stop = min(start + CHUNK, n)
+        if motions_file is not None:
+            chunk = source_motions[start:stop]
+        else:
+            chunk = source.sample(stop - start, rng)
+        mean, _ = model.predict(chunk)
+        parts.append(edp.compute(mean, structure, chunk))
+        intensities.append(intensity(measure, chunk, t1))
+        if progress:
+            elapsed = time.perf_counter() - started
+            show_progress(f"  fragility: {stop}/{n} records predicted ({elapsed:.0f} s)")
+    demands = edp.EDPs(
+        np.concatenate([p.pid for p in parts]),
+        np.concatenate([p.rid for p in parts]),
+        np.concatenate([p.pfa for p in parts]),
+        parts[0].stories,
+    )
+    return np.concatenate(intensities), demands
