@@ -6,9 +6,10 @@ import cphysfno_core
 
 from .bridge.structure import AuburnRavineBridge
 from .sac9.structure import Sac9Frame
+from .script.structure import OpenSeesModel
 
 
 @cphysfno_core.hookimpl
 def cphysfno_structures() -> list[type]:
     """The OpenSees structures."""
-    return [AuburnRavineBridge, Sac9Frame]
+    return [AuburnRavineBridge, Sac9Frame, OpenSeesModel]

@@ -25,16 +25,18 @@ import traceback
 from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
+from typing import Any, TypeVar
 
 import numpy as np
 
-from cphysfno_core import InputError, PluginError, check_main_guard
+from cphysfno_core import CphysfnoError, InputError, PluginError, check_main_guard
 
 from .transient import AnalysisFailed
 
 logger = logging.getLogger(__name__)
 
 Analyse = Callable[[np.ndarray, float], np.ndarray]
+T = TypeVar("T")
 
 
 def run_records(
@@ -80,14 +82,7 @@ def run_records(
             would run again (the message says to put it under ``if __name__ ==
             "__main__":``).
     """
-    if multiprocessing.current_process().daemon:
-        raise PluginError(
-            "OpenSees analyses run in worker processes, which this daemonic process may not "
-            "start: run Dask workers with distributed.worker.daemon = False (environment "
-            "DASK_DISTRIBUTED__WORKER__DAEMON=False, or `dask worker --no-nanny`); "
-            "cphysfno's own LocalCluster already does"
-        )
-    check_main_guard(f"{description or 'the OpenSees analysis'}")
+    _check_workers_allowed(description)
     acceleration = np.asarray(acceleration, dtype=np.float64)
     if acceleration.ndim != 2:
         raise InputError(f"acceleration must be [n_records, n_steps], got {acceleration.shape}")
@@ -126,6 +121,81 @@ def run_records(
         for worker in pool:
             worker.stop()
     return u, dict(sorted(failures.items()))
+
+
+def call_in_worker(function: Callable[..., T], *args: Any, description: str = "") -> T:
+    """``function(*args)`` run in a fresh worker process (as :func:`run_records` starts
+    them), its result returned: OpenSees state, crashes and ``exit`` calls stay there.
+
+    Args:
+        function: picklable (module level, or a ``functools.partial`` of such a function),
+            as are ``args`` and its result.
+        description: what it does, for the messages.
+
+    Raises:
+        CphysfnoError: the one ``function`` raised (re-raised here as it was).
+        PluginError: ``function`` raised another exception (the message holds its
+            traceback), or its process died (the message says how).
+        MainGuardError: as for :func:`run_records`.
+    """
+    _check_workers_allowed(description)
+    context = _context()
+    parent, child = context.Pipe()
+    task = pickle.dumps((function, args))
+    process = context.Process(target=_call, args=(child, task, list(sys.path)), daemon=True)
+    process.start()
+    child.close()
+    try:
+        wait([parent, process.sentinel])
+        outcome = None
+        if parent.poll():
+            try:
+                outcome = parent.recv()
+            except (EOFError, OSError):
+                outcome = None
+        if outcome is None:
+            process.join()
+            raise PluginError(f"{description or 'a worker'}: {_death_cause(process)}")
+        kind, value = outcome
+    finally:
+        if process.is_alive():
+            process.kill()
+        process.join()
+        parent.close()
+    if kind == "result":
+        return value
+    if kind == "error":
+        raise value
+    raise PluginError(f"{description or 'a worker'} raised:\n{value}")
+
+
+def _call(connection: Connection, task: bytes, path: list[str]) -> None:
+    """Worker of :func:`call_in_worker`: run the task, send ``(kind, value)`` back."""
+    sys.path[:] = path
+    try:
+        function, args = pickle.loads(task)
+        outcome: tuple[str, Any] = ("result", function(*args))
+    except CphysfnoError as error:
+        outcome = ("error", error)
+    except Exception:  # noqa: BLE001 - sent to the parent, which raises it
+        outcome = ("bug", traceback.format_exc())
+    try:
+        connection.send(outcome)
+    except Exception:  # noqa: BLE001 - an unpicklable result or error
+        connection.send(("bug", traceback.format_exc()))
+    connection.close()
+
+
+def _check_workers_allowed(description: str) -> None:
+    """Raise unless this process may start worker processes (see :func:`run_records`)."""
+    if multiprocessing.current_process().daemon:
+        raise PluginError(
+            "OpenSees analyses run in worker processes, which this daemonic process may not "
+            "start: run Dask workers with distributed.worker.daemon = False (environment "
+            "DASK_DISTRIBUTED__WORKER__DAEMON=False, or `dask worker --no-nanny`); "
+            "cphysfno's own LocalCluster already does"
+        )
+    check_main_guard(f"{description or 'the OpenSees analysis'}")
 
 
 @dataclass(eq=False)
@@ -209,7 +279,12 @@ def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | str]]:
 def _death(worker: _Worker) -> str:
     """Why a record's worker ended without answering, in words."""
     worker.process.join()
-    code = worker.process.exitcode
+    return f"{_death_cause(worker.process)} while analysing this record"
+
+
+def _death_cause(process: multiprocessing.process.BaseProcess) -> str:
+    """How a worker process that has ended without answering ended, in words."""
+    code = process.exitcode
     if code is not None and code < 0:
         try:
             cause = f"signal {signal.Signals(-code).name}"
@@ -217,7 +292,7 @@ def _death(worker: _Worker) -> str:
             cause = f"signal {-code}"
     else:
         cause = f"exit code {code}"
-    return f"the OpenSees worker process died ({cause}) while analysing this record"
+    return f"the OpenSees worker process died ({cause})"
 
 
 def _check_shape(values: np.ndarray, shape: tuple[int, int]) -> None:

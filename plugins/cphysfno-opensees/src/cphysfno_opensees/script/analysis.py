@@ -1,0 +1,60 @@
+"""One record's time-history analysis of a user's model (runs in a worker process).
+
+:func:`analyse` is module level so that a :func:`functools.partial` of it, with the model
+and its damping bound, is picklable and runs in the workers of
+:func:`cphysfno_opensees.runner.run_records`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cphysfno_core import Rayleigh
+
+from ..loader import import_opensees
+from ..transient import integrate
+from .model import ModelSpec, build_model, captured, start_transient
+
+ALGORITHM = ("Newton",)
+"""The solution algorithm of every step (the fallbacks of
+:func:`~cphysfno_opensees.transient.integrate` take over where it fails)."""
+
+
+def analyse(spec: ModelSpec, damping: Rayleigh, acceleration: np.ndarray, dt: float) -> np.ndarray:
+    """The outputs' response to one ground motion, from rest at the gravity state.
+
+    The model is built and brought to rest under its gravity loads (held constant); the
+    record, converted into the model's length unit, excites it as a UniformExcitation
+    along ``spec.excitation_dof``, linear between samples, and Newmark's average
+    acceleration rule integrates it at ``dt`` with Newton iterations, a step that does not
+    converge retried by :func:`~cphysfno_opensees.transient.integrate`.
+
+    Args:
+        spec: the model, its constraint handler chosen.
+        damping: Rayleigh factors on the mass and the initial stiffness.
+        acceleration: ``[T]`` ground acceleration, m/s^2.
+        dt: its time step, s.
+
+    Returns:
+        ``[T, n_outputs]`` displacements relative to the ground from the gravity state: m
+        for translations, rad for rotations.
+
+    Raises:
+        AnalysisFailed: a step that nothing could complete.
+    """
+    ops = import_opensees()
+    with captured():
+        built = build_model(ops, spec)
+        ground = np.asarray(acceleration, dtype=np.float64) / spec.metres_per_unit
+        start_transient(ops, spec, damping, ground, dt)
+        outputs = spec.outputs
+
+        def read() -> list[float]:
+            return [ops.nodeDisp(node, dof) for node, dof in outputs]
+
+        try:
+            u = integrate(ops, ground.size - 1, dt, read, algorithm=ALGORITHM)
+        finally:
+            ops.wipe()
+    scale = np.where(built.translations, spec.metres_per_unit, 1.0)
+    return (u - built.at_rest) * scale

@@ -1,0 +1,362 @@
+"""``opensees-model``: any OpenSeesPy model a user already has, as a cphysfno structure."""
+
+from __future__ import annotations
+
+import functools
+import json
+import logging
+from collections.abc import Callable
+from functools import cached_property
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import Field, PositiveFloat, field_validator, model_validator
+
+from cphysfno_core import GroundMotions, LinearSystem, Responses, Stories
+
+from ..runner import call_in_worker
+from ..structure import OpenSeesParams, OpenSeesStructure
+from .analysis import analyse
+from .model import LENGTH_UNITS, ModelSpec
+from .probe import Summary, probe
+from .source import ScriptError, resolve
+
+logger = logging.getLogger(__name__)
+
+Node = int
+Dof = Literal[1, 2, 3, 4, 5, 6]
+
+
+class OpenSeesModelParams(OpenSeesParams):
+    """Parameters of :class:`OpenSeesModel`: the script, its outputs, the damping, the
+    gravity loads, the units and the constraint handler."""
+
+    script: str = Field(
+        min_length=1,
+        description="Python file defining build(), which creates the model in OpenSeesPy's "
+        "domain (nodes, fixities, masses, materials, elements; no damping, loads or "
+        "analysis); a relative path is taken from the working directory",
+    )
+    outputs: list[tuple[Node, Dof]] = Field(
+        min_length=1,
+        description="[node, dof] of each output: its displacement relative to the ground "
+        "is predicted (dof counted from 1)",
+    )
+    output_names: list[str] | None = Field(
+        None, description="a name for each output (default node-<node>-dof-<dof>)"
+    )
+    excitation_dof: Dof = Field(1, description="the DOF along which the ground moves")
+    damping_ratio: float = Field(
+        0.05,
+        ge=0.0,
+        lt=1.0,
+        description="Rayleigh damping ratio (mass and initial stiffness) in rayleigh_modes",
+    )
+    rayleigh_modes: tuple[int, int] = Field(
+        (1, 2), description="the two modes (from 1, at the gravity state) damped damping_ratio"
+    )
+    gravity: str | None = Field(
+        None,
+        pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
+        description="name of a function of the script that applies the gravity loads (and "
+        "may analyse them itself); they are held constant during the record",
+    )
+    story_heights: list[PositiveFloat] | None = Field(
+        None,
+        description="height of each story in length_unit, the outputs being its floors "
+        "bottom-up (for story drift ratios)",
+    )
+    drift_pairs: list[tuple[Node, Node]] | None = Field(
+        None,
+        description="[lower node, upper node] of each story (the lower a restrained node for "
+        "the ground story); heights from the nodes' coordinates",
+    )
+    length_unit: Literal["m", "cm", "mm", "in", "ft"] = Field(
+        "m",
+        description="the script's length unit (time in s; force and mass as the script has "
+        "them): records are converted into it, outputs come back in m",
+    )
+    constraints: Literal["auto", "Plain", "Penalty", "Transformation", "Lagrange"] = Field(
+        "auto",
+        description="OpenSees constraint handler of every analysis; auto checks "
+        "Transformation against the exactly constrained model and falls back to Penalty",
+    )
+    tolerance: float = Field(
+        1e-8,
+        gt=0.0,
+        description="Newton's tolerance on the norm of the displacement increment, m",
+    )
+    max_iterations: int = Field(
+        25, ge=1, description="Newton iterations per step before the fallbacks"
+    )
+
+    @field_validator("rayleigh_modes")
+    @classmethod
+    def _modes_from_one(cls, modes: tuple[int, int]) -> tuple[int, int]:
+        if min(modes) < 1:
+            raise ValueError("modes are counted from 1")
+        return modes
+
+    @model_validator(mode="after")
+    def _consistent(self) -> OpenSeesModelParams:
+        n = len(self.outputs)
+        if len(set(self.outputs)) != n:
+            raise ValueError("outputs: each [node, dof] may appear once")
+        if self.output_names is not None:
+            if len(self.output_names) != n or len(set(self.output_names)) != n:
+                raise ValueError(f"output_names: give {n} distinct names, one per output")
+        if self.story_heights is not None and self.drift_pairs is not None:
+            raise ValueError("give story_heights or drift_pairs, not both")
+        if self.story_heights is not None and len(self.story_heights) != n:
+            raise ValueError(f"story_heights: give one per output ({n}), bottom story first")
+        return self
+
+
+class OpenSeesModel(OpenSeesStructure):
+    """A user's own OpenSeesPy model under horizontal (or any single-DOF) ground motion.
+
+    The script's ``build()`` creates the model; the framework adds the rest:
+
+    - gravity: the script's function ``gravity`` (if named) applies the gravity loads
+      and may analyse them itself; if it leaves them unanalysed the framework analyses them
+      statically; either way they are held constant (``loadConst -time 0.0``) before the
+      record, so P-Delta acts through the element transformations the script chose;
+    - damping: Rayleigh on the mass and the initial stiffness (``alphaM``, ``betaKinit``),
+      ``damping_ratio`` in ``rayleigh_modes`` of the model at its gravity state;
+    - the record: a UniformExcitation along ``excitation_dof`` on the record's own time
+      step, Newmark's average acceleration rule with Newton iterations, the fallbacks of
+      :func:`~cphysfno_opensees.transient.integrate` and the worker recycling of
+      :func:`~cphysfno_opensees.runner.run_records`; a record that does not converge is
+      reported in ``Responses.failures``;
+    - the constraint handler of every analysis (gravity, eigen, transient): with
+      ``constraints = "auto"``, ``Transformation`` if it reproduces the exactly constrained
+      model (its gravity state and eigenvalues), else ``Penalty``;
+    - units: records are converted into ``length_unit`` before they are applied, and
+      outputs come back in m (rad for rotations).
+
+    Its periods and linear system are those of the tangent at the gravity state: mass,
+    stiffness and damping as OpenSees assembles them there, the constrained DOFs
+    eliminated and the massless ones condensed statically
+    (:mod:`cphysfno_opensees.matrices`), in m and rad and the script's force unit.
+    """
+
+    name = "opensees-model"
+    Params = OpenSeesModelParams
+    capabilities = frozenset({"linear_system", "coarse_simulation", "stories"})
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        if self.params.output_names is not None:
+            return tuple(self.params.output_names)
+        return tuple(f"node-{node}-dof-{dof}" for node, dof in self.params.outputs)
+
+    @property
+    def metres_per_unit(self) -> float:
+        """Metres per length unit of the script."""
+        return LENGTH_UNITS[self.params.length_unit]
+
+    @cached_property
+    def spec(self) -> ModelSpec:
+        """The model for the worker processes (its constraint handler not yet chosen).
+
+        Raises:
+            ScriptError: the script does not exist.
+        """
+        p = self.params
+        return ModelSpec(
+            script=resolve(p.script),
+            outputs=tuple((int(node), int(dof)) for node, dof in p.outputs),
+            excitation_dof=int(p.excitation_dof),
+            gravity=p.gravity,
+            metres_per_unit=self.metres_per_unit,
+            tolerance=p.tolerance / self.metres_per_unit,
+            max_iterations=p.max_iterations,
+        )
+
+    @cached_property
+    def summary(self) -> Summary:
+        """The model as probed in a worker process: its constraint handler, Rayleigh
+        factors and linear equations at the gravity state (once per instance).
+
+        Raises:
+            ScriptError: the script fails, or the model cannot be analysed.
+            PluginError: the probe's process died (OpenSees ended it).
+        """
+        p = self.params
+        summary = call_in_worker(
+            probe,
+            self.spec,
+            p.constraints,
+            p.damping_ratio,
+            tuple(p.rayleigh_modes),
+            description=f"probing the model of OpenSees script {self.spec.script}",
+        )
+        logger.info(
+            "%s: %s, constraints %s (%s)",
+            self.name,
+            self.spec.script,
+            summary.constraints[0],
+            "; ".join(f"{h}: {finding}" for h, finding in summary.checks),
+        )
+        return summary
+
+    @property
+    def constraints_handler(self) -> str:
+        """The OpenSees constraint handler every analysis of the model uses."""
+        return str(self.summary.constraints[0])
+
+    def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
+        """One record's analysis: :func:`~.analysis.analyse` with the model, its handler
+        and its Rayleigh factors bound."""
+        summary = self.summary
+        spec = self.spec.with_constraints(summary.constraints)
+        return functools.partial(analyse, spec, summary.damping_factors)
+
+    def simulate(self, motions: GroundMotions, *, dt: float | None = None) -> Responses:
+        """As :meth:`OpenSeesStructure.simulate`; a failed record's cause also names the
+        record by its metadata, where the motions have some."""
+        responses = super().simulate(motions, dt=dt)
+        if not responses.failures or not motions.metadata:
+            return responses
+        failures = {
+            index: f"{cause} ({_describe(motions.metadata[index])})"
+            for index, cause in responses.failures.items()
+        }
+        return Responses(responses.displacement, responses.dt, failures=failures)
+
+    def linear_system(self) -> LinearSystem:
+        """The equations at the gravity state (:class:`OpenSeesModel`), in m and rad and the
+        script's force unit (N, and so kg, for a script in SI units)."""
+        summary = self.summary
+        f = self.metres_per_unit
+        translation = np.array([dof <= summary.ndm for _, dof in summary.dofs])
+        to_si = np.where(translation, f, 1.0)  # u_si = to_si * u_model
+        scale = f / np.outer(to_si, to_si)
+        outputs = np.array([dof <= summary.ndm for _, dof in self.spec.outputs])
+        out_scale = np.where(outputs, f, 1.0)
+        return LinearSystem(
+            summary.mass * scale,
+            summary.damping * scale,
+            summary.stiffness * scale,
+            summary.influence * to_si / f,
+            summary.output_map * out_scale[:, None] / to_si[None, :],
+        )
+
+    def stories(self) -> Stories:
+        """The stories for drift ratios and floor accelerations, from the parameters:
+
+        - ``story_heights``: the outputs are the floors bottom-up, story ``s`` from output
+          ``s - 1`` (the ground for the first) to output ``s``, of the given heights;
+        - ``drift_pairs``: each story from the output at its lower node (or the ground,
+          for a restrained node) to the output at its upper node, its height the
+          difference of the nodes' vertical coordinates;
+        - neither: from the outputs along ``excitation_dof`` and their nodes' elevations
+          (the last coordinate: y in 2D, z in 3D). Outputs at distinct elevations are
+          floors one above the other (the lowest over the ground, the elevation of the
+          lowest restrained node); where several share an elevation (piers, or joints of
+          one floor), each is a story from the ground.
+
+        Heights are converted to m from ``length_unit``.
+
+        Raises:
+            ScriptError: a node of ``drift_pairs`` is not an output along the excitation
+                (nor, for the lower one, restrained), or the stories cannot be told from
+                the model (a one-dimensional model, no output along the excitation, an
+                output at the ground's elevation): give ``story_heights`` or
+                ``drift_pairs``.
+        """
+        p = self.params
+        f = self.metres_per_unit
+        if p.story_heights is not None:
+            return Stories.stacked(tuple(h * f for h in p.story_heights))
+        summary = self.summary
+        along = {
+            node: i
+            for i, (node, dof) in reversed(list(enumerate(self.spec.outputs)))
+            if dof == p.excitation_dof
+        }
+        if summary.ndm < 2 or not along:
+            raise ScriptError(
+                f"{self.name}: the stories of OpenSees script {self.spec.script} cannot be told "
+                "from its model (no vertical coordinate, or no output along excitation_dof): "
+                "give story_heights or drift_pairs"
+            )
+        axis = summary.ndm - 1
+
+        def elevation(node: int) -> float:
+            return summary.coordinates[node][axis] * f
+
+        # (output at the bottom or None, elevation of the bottom, node at the top)
+        spans: list[tuple[int | None, float, int]] = []
+        if p.drift_pairs is None:
+            ground = min(map(elevation, summary.restrained or summary.coordinates))
+            floors = sorted(along, key=elevation)
+            levels = [elevation(node) for node in floors]
+            if len(set(levels)) == len(levels):
+                below = [None, *floors[:-1]]
+                for bottom, top in zip(below, floors, strict=True):
+                    base = ground if bottom is None else elevation(bottom)
+                    spans.append((None if bottom is None else along[bottom], base, top))
+            else:
+                spans = [(None, ground, node) for node in sorted(along, key=along.__getitem__)]
+        else:
+            for bottom, top in p.drift_pairs:
+                if top not in along:
+                    raise ScriptError(
+                        f"drift_pairs: node {top} is not an output along excitation_dof "
+                        f"{p.excitation_dof}"
+                    )
+                if bottom not in along and bottom not in summary.restrained:
+                    raise ScriptError(
+                        f"drift_pairs: node {bottom} is neither an output along excitation_dof "
+                        f"{p.excitation_dof} nor restrained (the ground)"
+                    )
+                spans.append((along.get(bottom), elevation(bottom), top))
+        lower, upper, heights = [], [], []
+        for bottom, base, top in spans:
+            height = abs(elevation(top) - base)
+            if not height > 0.0:
+                raise ScriptError(
+                    f"{self.name}: the story up to node {top} of OpenSees script "
+                    f"{self.spec.script} has no height: give story_heights or drift_pairs"
+                )
+            lower.append(bottom)
+            upper.append(along[top])
+            heights.append(height)
+        return Stories(tuple(lower), tuple(upper), tuple(heights))
+
+    def write_artifacts(self, directory: Path) -> list[Path]:
+        """``opensees-model.json``: the constraint handler chosen and why, the Rayleigh
+        factors, the periods at the gravity state (the framework's and OpenSees' own
+        eigen analysis) and the DOFs of the linear system."""
+        summary = self.summary
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        document = directory / "opensees-model.json"
+        document.write_text(
+            json.dumps(
+                {
+                    "script": str(self.spec.script),
+                    "constraints": list(summary.constraints),
+                    "constraint_checks": [list(check) for check in summary.checks],
+                    "rayleigh": {
+                        "mass_factor_per_s": summary.damping_factors.mass_factor,
+                        "stiffness_factor_s": summary.damping_factors.stiffness_factor,
+                    },
+                    "periods_s": summary.periods().tolist(),
+                    "opensees_eigen_periods_s": summary.opensees_periods.tolist(),
+                    "linear_system_dofs": [list(dof) for dof in summary.dofs],
+                    "length_unit": self.params.length_unit,
+                },
+                indent=2,
+            )
+        )
+        return [document]
+
+
+def _describe(metadata: dict) -> str:
+    """A record's metadata in one line (``key = value, ...``)."""
+    if not metadata:
+        return "no metadata"
+    return ", ".join(f"{key} = {value}" for key, value in metadata.items())

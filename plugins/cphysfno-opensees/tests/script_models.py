@@ -1,0 +1,271 @@
+"""Small OpenSeesPy scripts for the ``opensees-model`` tests, and a direct OpenSeesPy
+analysis of a script that does not go through the structure.
+
+Each script is written in SI units scaled by two constants, ``LENGTH`` (model length
+units per metre) and ``FORCE`` (model force units per newton), so that one text gives the
+model in metres and newtons and the same model in inches and kips.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+import scipy.linalg
+
+from cphysfno_core.testing.physics import smooth_random_motions
+
+METRES_PER_INCH = 0.0254
+NEWTONS_PER_KIP = 4448.2216152605
+
+UNITS = """
+import openseespy.opensees as ops
+
+LENGTH = {length!r}  # model length units per metre
+FORCE = {force!r}  # model force units per newton
+MASS = FORCE / LENGTH  # model mass units per kg
+PASCAL = FORCE / LENGTH**2
+"""
+
+FRAME = (
+    UNITS
+    + '''
+H, W = 3.0 * LENGTH, 5.0 * LENGTH
+E = 2.0e11 * PASCAL
+AREA, COLUMN_I, BEAM_I = 0.01 * LENGTH**2, 1.0e-4 * LENGTH**4, 2.0e-4 * LENGTH**4
+YIELD_MOMENT = 6.0e4 * FORCE * LENGTH
+JOINT_MASS = 1.0e4 * MASS
+LEANING = {leaning!r}  # None, "chain" or "direct"
+
+
+def build():
+    """Two stories, one bay: P-Delta columns whose bending yields (bilinear moment-curvature
+    sections of force-based elements), elastic beams, the joints of a floor tied
+    horizontally, the floor mass lumped at its two joints; a pinned leaning column tied to
+    the floors."""
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for floor in range(3):
+        ops.node(10 * floor + 1, 0.0, floor * H)
+        ops.node(10 * floor + 2, W, floor * H)
+    ops.fix(1, 1, 1, 1)
+    ops.fix(2, 1, 1, 1)
+    ops.geomTransf("PDelta", 1)
+    ops.geomTransf("Linear", 2)
+    ops.uniaxialMaterial("Elastic", 1, E * AREA)
+    ops.uniaxialMaterial("Steel01", 2, YIELD_MOMENT, E * COLUMN_I, 0.02)
+    ops.section("Aggregator", 1, 1, "P", 2, "Mz")
+    ops.beamIntegration("Lobatto", 1, 1, 3)
+    for floor in (1, 2):
+        for line in (1, 2):
+            bottom, top = 10 * (floor - 1) + line, 10 * floor + line
+            ops.element("forceBeamColumn", 100 + top, bottom, top, 1, 1)
+        ops.element("elasticBeamColumn", 200 + floor, 10 * floor + 1, 10 * floor + 2,
+                    AREA, E, BEAM_I, 2)
+        ops.mass(10 * floor + 1, JOINT_MASS, 0.0, 0.0)
+        ops.mass(10 * floor + 2, JOINT_MASS, 0.0, 0.0)
+        ops.equalDOF(10 * floor + 1, 10 * floor + 2, 1)
+    if LEANING is not None:
+        ops.node(3, 2.0 * W, 0.0)
+        ops.fix(3, 1, 1, 1)  # a truss leaves its rotations free: fix them
+        ops.uniaxialMaterial("Elastic", 3, 100.0 * E * AREA)
+        for floor in (1, 2):
+            lean = 10 * floor + 3
+            ops.node(lean, 2.0 * W, floor * H)
+            ops.fix(lean, 0, 0, 1)
+            below = 3 if floor == 1 else lean - 10
+            ops.element("corotTruss", 300 + floor, below, lean, 1.0, 3)
+            # "chain": tied to the joint that is itself tied to the floor's first joint
+            ops.equalDOF(10 * floor + (2 if LEANING == "chain" else 1), lean, 1)
+
+
+def gravity():
+    """The frame's own weight at its joints and the floors' gravity load on the leaning
+    column; not analysed here."""
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    for floor in (1, 2):
+        for line in (1, 2):
+            ops.load(10 * floor + line, 0.0, -2.0e5 * FORCE, 0.0)
+        if LEANING is not None:
+            ops.load(10 * floor + 3, 0.0, -1.5e6 * FORCE, 0.0)
+'''
+)
+
+HINGED = (
+    UNITS
+    + '''
+H, W = 3.0 * LENGTH, 6.0 * LENGTH
+E = 2.0e11 * PASCAL
+AREA, COLUMN_I, BEAM_I = 0.01 * LENGTH**2, 1.5e-4 * LENGTH**4, 3.0e-4 * LENGTH**4
+JOINT_MASS = 1.5e4 * MASS
+HINGE_STIFFNESS = 20.0 * E * BEAM_I / W
+HINGE_YIELD = 8.0e4 * FORCE * LENGTH
+
+
+def build():
+    """Two stories, one bay: elastic P-Delta columns; each beam an elastic element between
+    two hinge nodes, joined to the joints by yielding rotational springs (zeroLength) and
+    sharing their translations; masses on the joints' horizontal DOFs only, so that every
+    rotation, every vertical DOF and every hinge node carries none."""
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for floor in range(3):
+        ops.node(10 * floor + 1, 0.0, floor * H)
+        ops.node(10 * floor + 2, W, floor * H)
+    ops.fix(1, 1, 1, 1)
+    ops.fix(2, 1, 1, 1)
+    ops.geomTransf("PDelta", 1)
+    ops.geomTransf("Linear", 2)
+    ops.uniaxialMaterial("Steel01", 1, HINGE_YIELD, HINGE_STIFFNESS, 0.01)
+    for floor in (1, 2):
+        for line in (1, 2):
+            bottom, top = 10 * (floor - 1) + line, 10 * floor + line
+            ops.element("elasticBeamColumn", 100 + top, bottom, top, AREA, E, COLUMN_I, 1)
+            hinge = 10 * floor + line + 4
+            ops.node(hinge, *ops.nodeCoord(top))
+            ops.equalDOF(top, hinge, 1, 2)
+            ops.element("zeroLength", 400 + hinge, top, hinge, "-mat", 1, "-dir", 6)
+            ops.mass(top, JOINT_MASS, 0.0, 0.0)
+        ops.element("elasticBeamColumn", 200 + floor, 10 * floor + 5, 10 * floor + 6,
+                    AREA, E, BEAM_I, 2)
+'''
+)
+
+
+def write(
+    folder: Path, name: str, text: str, *, length: float = 1.0, force: float = 1.0, **options
+) -> Path:
+    """The script ``text`` in the given units, written to ``folder/name.py``."""
+    path = Path(folder) / f"{name}.py"
+    path.write_text(text.format(length=length, force=force, **options))
+    return path
+
+
+def frame(folder: Path, name: str = "frame", leaning=None, **units) -> Path:
+    return write(folder, name, FRAME, leaning=leaning, **units)
+
+
+def hinged(folder: Path, name: str = "hinged", **units) -> Path:
+    return write(folder, name, HINGED, **units)
+
+
+def records(n: int = 2, n_steps: int = 401, dt: float = 0.01, peak: float = 3.0, seed: int = 1):
+    """Smooth random ground accelerations (m/s^2)."""
+    return smooth_random_motions(n, n_steps, dt, peak, seed, window=5)
+
+
+def load(path: Path):
+    """The script at ``path`` as a module of its own."""
+    spec = importlib.util.spec_from_file_location(f"direct_{path.stem}", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def direct_run(
+    path: Path,
+    outputs: list[tuple[int, int]],
+    acceleration: np.ndarray,
+    dt: float,
+    *,
+    gravity: bool = False,
+    damping_ratio: float = 0.05,
+    modes: tuple[int, int] = (1, 2),
+    metres_per_unit: float = 1.0,
+    tolerance: float = 1e-8,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The script analysed with OpenSeesPy alone, as one would by hand: gravity in ten
+    load steps held constant, Rayleigh damping (mass and initial stiffness) matched to the
+    eigen analysis of the gravity state in ``modes``, the record as a UniformExcitation in
+    DOF 1, Newmark's average acceleration rule, Newton, the Transformation handler.
+
+    Returns:
+        ``([T, n_outputs]`` displacements from the gravity state in m, ``[n]`` periods in
+        s from OpenSees' eigen analysis at the gravity state).
+    """
+    from cphysfno_opensees.loader import import_opensees
+
+    ops = import_opensees()
+    script = load(path)
+    ops.wipe()
+    script.build()
+    if gravity:
+        script.gravity()
+        ops.constraints("Transformation")
+        ops.numberer("RCM")
+        ops.system("BandGeneral")
+        ops.test("NormDispIncr", tolerance / metres_per_unit, 25)
+        ops.algorithm("Newton")
+        ops.integrator("LoadControl", 0.1)
+        ops.analysis("Static")
+        assert ops.analyze(10) == 0
+        ops.loadConst("-time", 0.0)
+        ops.wipeAnalysis()
+    ops.constraints("Transformation")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    squares = np.asarray(ops.eigen("-fullGenLapack", max(modes)))
+    ops.wipeAnalysis()
+    omega = np.sqrt(squares)
+    a, b = omega[modes[0] - 1], omega[modes[1] - 1]
+    mass_factor = 2.0 * damping_ratio * a * b / (a + b)
+    stiffness_factor = 2.0 * damping_ratio / (a + b)
+    rest = np.array([ops.nodeDisp(node, dof) for node, dof in outputs])
+    ops.rayleigh(mass_factor, 0.0, stiffness_factor, 0.0)
+    values = np.asarray(acceleration, dtype=float) / metres_per_unit
+    ops.timeSeries("Path", 77, "-dt", dt, "-values", *values)
+    ops.pattern("UniformExcitation", 77, 1, "-accel", 77)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", tolerance / metres_per_unit, 25)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    u = [rest]
+    for _ in range(values.size - 1):
+        assert ops.analyze(1, dt) == 0
+        u.append([ops.nodeDisp(node, dof) for node, dof in outputs])
+    ops.wipe()
+    return (np.asarray(u) - rest) * metres_per_unit, 2.0 * np.pi / omega
+
+
+def eigen_periods(path: Path, n: int, *, gravity: bool = False) -> np.ndarray:
+    """``[n]`` periods (s) from OpenSees' eigen analysis of the script's model at rest
+    under its gravity loads (Transformation handler)."""
+    from cphysfno_opensees.loader import import_opensees
+
+    ops = import_opensees()
+    script = load(path)
+    ops.wipe()
+    script.build()
+    if gravity:
+        script.gravity()
+        ops.constraints("Transformation")
+        ops.numberer("RCM")
+        ops.system("BandGeneral")
+        ops.test("NormDispIncr", 1e-8, 25)
+        ops.algorithm("Newton")
+        ops.integrator("LoadControl", 0.1)
+        ops.analysis("Static")
+        assert ops.analyze(10) == 0
+        ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
+    ops.constraints("Transformation")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    squares = np.asarray(ops.eigen("-fullGenLapack", n))
+    ops.wipe()
+    return 2.0 * np.pi / np.sqrt(squares)
+
+
+def relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """Per output (last axis) over everything else."""
+    axes = tuple(range(truth.ndim - 1))
+    return np.sqrt(((estimate - truth) ** 2).sum(axes) / (truth**2).sum(axes))
+
+
+def eigh_periods(stiffness: np.ndarray, mass: np.ndarray) -> np.ndarray:
+    return 2.0 * np.pi / np.sqrt(scipy.linalg.eigh(stiffness, mass, eigvals_only=True))
