@@ -20,6 +20,7 @@ import scipy.linalg
 
 from cphysfno_core import LinearSystem, Rayleigh
 
+from ..matrices import condense
 from .design import BridgeDesign
 from .model import TRANSVERSE, ElasticSection, apply_gravity, build, tangent_stiffness
 from .numerics import Numerics
@@ -95,18 +96,9 @@ def assemble(
     influence = np.array([1.0 if direction == TRANSVERSE else 0.0 for _, direction in dofs])
     return Matrices(
         np.diag(masses),
-        _condense(initial, keep, others),
-        _condense(loaded, keep, others),
+        condense(initial, keep, others),
+        condense(loaded, keep, others),
         influence,
         output_map,
         tuple(dofs),
     )
-
-
-def _condense(matrix: np.ndarray, keep: np.ndarray, others: np.ndarray) -> np.ndarray:
-    """Static condensation ``K_kk - K_ko K_oo^-1 K_ok`` onto the DOFs ``keep``."""
-    kk = matrix[np.ix_(keep, keep)]
-    ko = matrix[np.ix_(keep, others)]
-    oo = matrix[np.ix_(others, others)]
-    condensed = kk - ko @ np.linalg.solve(oo, ko.T)
-    return 0.5 * (condensed + condensed.T)

@@ -8,14 +8,12 @@ a small frozen record that travels to worker processes.
 
 from __future__ import annotations
 
-import contextlib
-import io
-import sys
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 
+from .. import matrices
 from ..quadrature import lobatto
 from .sections import (
     BAY_WIDTH,
@@ -352,21 +350,8 @@ class _MemberBuilder:
 
 def eigenvalues(ops: Any, n: int) -> np.ndarray:
     """``[n]`` smallest eigenvalues omega^2 (rad^2/s^2) of the current stiffness and the
-    mass, by a dense generalised solve (the rotations and verticals carry no mass).
-
-    OpenSees warns on every dense solve that it is slow (it takes milliseconds at this
-    size); its messages are shown only if the solve fails.
-    """
-    ops.wipeAnalysis()
-    ops.constraints("Transformation")
-    ops.numberer("Plain")
-    ops.system("BandGeneral")
-    messages = io.StringIO()
-    try:
-        with contextlib.redirect_stderr(messages):
-            values = np.asarray(ops.eigen("-fullGenLapack", n), dtype=np.float64)
-    except Exception:
-        sys.stderr.write(messages.getvalue())
-        raise
-    ops.wipeAnalysis()
-    return values
+    mass, by a dense generalised solve (the rotations and verticals carry no mass), the
+    rigid diaphragms' ties eliminated by the Transformation handler
+    (:func:`cphysfno_opensees.matrices.eigenvalues`; OpenSees' messages are shown only if
+    the solve fails)."""
+    return matrices.eigenvalues(ops, ("Transformation",), n, system="BandGeneral")
