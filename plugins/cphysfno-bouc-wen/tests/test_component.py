@@ -21,6 +21,7 @@ def test_registry_builds_it_by_name() -> None:
         "equivalent_linear_system",
         "restoring_force",
         "coarse_simulation",
+        "stories",
         "projected_simulation",
     }
 
