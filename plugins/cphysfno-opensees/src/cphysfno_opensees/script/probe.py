@@ -186,7 +186,7 @@ def _summary(
     rayleigh_modes: tuple[int, int],
 ) -> Summary:
     """The model analysed to its gravity state with ``spec.constraints`` and read."""
-    built = build_model(ops, spec)
+    build_model(ops, spec)
     reduced = _reduced(ops, spec, assemble(ops, damping=False))
     omega = _frequencies(reduced.stiffness, reduced.mass, spec)
     last = max(rayleigh_modes)
@@ -231,7 +231,6 @@ def _summary(
             opensees_periods = 2.0 * np.pi / np.sqrt(eigenvalues(ops, spec.constraints, n))
         except RuntimeError:
             pass
-    del built
     return Summary(
         constraints=spec.constraints,
         checks=tuple(checks),

@@ -65,7 +65,7 @@ class OpenSeesModelParams(OpenSeesParams):
     story_heights: list[PositiveFloat] | None = Field(
         None,
         description="height of each story in length_unit, the outputs being its floors "
-        "bottom-up (for story drift ratios)",
+        "bottom-up (for story drift ratios; default: from the outputs' elevations)",
     )
     drift_pairs: list[tuple[Node, Node]] | None = Field(
         None,
