@@ -70,7 +70,9 @@ class OpenSeesStructure(Structure):
 
         Returns:
             ``[n, T', n_outputs]`` displacements in m on the analysed grid, NaN for the
-            records named in ``failures``.
+            records named in ``failures`` (each cause followed by the record's metadata,
+            where the motions have some: ``did not converge at t = 7.31 s after ...
+            (rsn = 953, scale = 1.4)``).
 
         Raises:
             InputError: ``motions`` is not a GroundMotions, or ``dt`` is not a time step at
@@ -100,7 +102,10 @@ class OpenSeesStructure(Structure):
             records_per_worker=self.params.records_per_worker,
             description=f"{self.name} at dt = {motions.dt:g} s",
         )
-        failures = {int(moving[i]): cause for i, cause in failures.items()}
+        failures = {
+            int(moving[i]): _with_metadata(cause, motions.metadata, int(moving[i]))
+            for i, cause in failures.items()
+        }
         return Responses(u, motions.dt, failures=failures)
 
     def periods(self, n: int | None = None) -> np.ndarray:
@@ -117,3 +122,11 @@ class OpenSeesStructure(Structure):
             system.stiffness, system.mass, eigvals_only=True, subset_by_index=(0, int(n) - 1)
         )
         return 2.0 * np.pi / np.sqrt(squares)
+
+
+def _with_metadata(cause: str, metadata, index: int) -> str:
+    """``cause`` followed by record ``index``'s metadata (``key = value, ...``), if any."""
+    if not metadata or not metadata[index]:
+        return cause
+    described = ", ".join(f"{key} = {value}" for key, value in metadata[index].items())
+    return f"{cause} ({described})"

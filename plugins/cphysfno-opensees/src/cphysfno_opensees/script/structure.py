@@ -13,7 +13,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
-from cphysfno_core import GroundMotions, LinearSystem, Responses, Stories
+from cphysfno_core import LinearSystem, Stories
 
 from ..runner import call_in_worker
 from ..structure import OpenSeesParams, OpenSeesStructure
@@ -213,18 +213,6 @@ class OpenSeesModel(OpenSeesStructure):
         spec = self.spec.with_constraints(summary.constraints)
         return functools.partial(analyse, spec, summary.damping_factors)
 
-    def simulate(self, motions: GroundMotions, *, dt: float | None = None) -> Responses:
-        """As :meth:`OpenSeesStructure.simulate`; a failed record's cause also names the
-        record by its metadata, where the motions have some."""
-        responses = super().simulate(motions, dt=dt)
-        if not responses.failures or not motions.metadata:
-            return responses
-        failures = {
-            index: f"{cause} ({_describe(motions.metadata[index])})"
-            for index, cause in responses.failures.items()
-        }
-        return Responses(responses.displacement, responses.dt, failures=failures)
-
     def linear_system(self) -> LinearSystem:
         """The equations at the gravity state (:class:`OpenSeesModel`), in m and rad and the
         script's force unit (N, and so kg, for a script in SI units)."""
@@ -353,10 +341,3 @@ class OpenSeesModel(OpenSeesStructure):
             )
         )
         return [document]
-
-
-def _describe(metadata: dict) -> str:
-    """A record's metadata in one line (``key = value, ...``)."""
-    if not metadata:
-        return "no metadata"
-    return ", ".join(f"{key} = {value}" for key, value in metadata.items())
