@@ -1,6 +1,8 @@
 """Every registered component passes the conformance checks of its kind, and the checks
 catch components that break their contract."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import torch
@@ -17,6 +19,12 @@ EXAMPLE_PARAMS = {
         "masses": (2.0e4, 2.0e4, 1.5e4),
         "stiffnesses": (4.0e7, 3.0e7, 2.0e7),
         "story_law": {"name": "bilinear", "yield_displacement": 0.01},
+    },
+    ("structure", "opensees-model"): {
+        "script": str(Path(__file__).parents[1] / "examples" / "models" / "two_story_frame.py"),
+        "outputs": [[11, 1], [21, 1]],
+        "gravity": "gravity",
+        "workers": 1,
     },
     ("story_law", "bilinear"): {"yield_displacement": 0.01},
     ("story_law", "peak-oriented"): {"yield_displacement": 0.01},
