@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import numba
-import numpy as np
-from cphysfno_core import LawFunctions, Params, StoryLaw, per_story
+from cphysfno_core import LawFunctions, Params
 from pydantic import Field
 
 from .common import LAW_JIT, PerStory, RatioPerStory
+from .yielding import YieldingLaw
 
 
 class BilinearLawParams(Params):
@@ -39,7 +39,7 @@ def bilinear_settle(c, v, s):
     s[0] = min(max(s[0], -c[2]), c[2])
 
 
-class BilinearLaw(StoryLaw):
+class BilinearLaw(YieldingLaw):
     """Elastic-perfectly-plastic spring in parallel with ``alpha k`` (kinematic hardening).
 
     ``F = k [alpha v + (1 - alpha) z]`` with ``|z| <= u_y`` the elastic-perfectly-plastic
@@ -54,20 +54,5 @@ class BilinearLaw(StoryLaw):
     n_states = 1
     state_names = ("elastic-perfectly-plastic displacement z, m",)
 
-    def coefficients(self, stiffness: np.ndarray) -> np.ndarray:
-        """``[d, 3]``: ``k`` (N/m), ``alpha``, ``u_y`` (m) of each story."""
-        d = len(stiffness)
-        p = self.params
-        return np.column_stack(
-            [
-                np.asarray(stiffness, dtype=np.float64),
-                per_story(p.alpha, d, "story_law.alpha"),
-                per_story(p.yield_displacement, d, "story_law.yield_displacement"),
-            ]
-        )
-
     def functions(self) -> LawFunctions:
         return LawFunctions(bilinear_force, bilinear_rate, bilinear_settle)
-
-    def yield_drift(self, n_stories: int) -> np.ndarray:
-        return per_story(self.params.yield_displacement, n_stories, "story_law.yield_displacement")

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numba
 import numpy as np
-from cphysfno_core import LawFunctions, Params, StoryLaw, per_story
+from cphysfno_core import LawFunctions, Params, per_story
 from pydantic import Field
 
 from .common import LAW_JIT, ExponentPerStory, PerStory, RatioPerStory, no_settling
+from .yielding import YieldingLaw
 
 
 class BoucWenLawParams(Params):
@@ -43,7 +44,7 @@ def bouc_wen_law_rate(c, v, v_dot, s, out):
     out[0] = v_dot * (c[2] - c[4] * power * magnitude) - c[3] * abs(v_dot) * power * h
 
 
-class BoucWenLaw(StoryLaw):
+class BoucWenLaw(YieldingLaw):
     """Bouc-Wen smooth hysteresis: ``F = k [alpha v + (1 - alpha) h]``, ``h`` from Bouc-Wen's
     equation.
 
@@ -63,9 +64,7 @@ class BoucWenLaw(StoryLaw):
         d = len(stiffness)
         p = self.params
         exponent = per_story(p.exponent, d, "story_law.exponent")
-        default = 0.5 / per_story(p.yield_displacement, d, "story_law.yield_displacement") ** (
-            exponent
-        )
+        default = 0.5 / self.yield_drift(d) ** exponent
         beta = default if p.beta is None else per_story(p.beta, d, "story_law.beta")
         gamma = default if p.gamma is None else per_story(p.gamma, d, "story_law.gamma")
         return np.column_stack(
@@ -81,9 +80,6 @@ class BoucWenLaw(StoryLaw):
 
     def functions(self) -> LawFunctions:
         return LawFunctions(bouc_wen_force, bouc_wen_law_rate, no_settling)
-
-    def yield_drift(self, n_stories: int) -> np.ndarray:
-        return per_story(self.params.yield_displacement, n_stories, "story_law.yield_displacement")
 
     def uniform(self) -> bool:
         """Whether every parameter is one scalar for all stories."""

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import numba
-import numpy as np
-from cphysfno_core import LawFunctions, Params, StoryLaw, per_story
+from cphysfno_core import LawFunctions, Params
 from pydantic import Field
 
 from .common import LAW_JIT, PerStory, RatioPerStory
+from .yielding import YieldingLaw
 
 
 class PeakOrientedLawParams(Params):
@@ -95,7 +95,7 @@ def peak_oriented_settle(c, v, s):
                 s[4] = crossing
 
 
-class PeakOrientedLaw(StoryLaw):
+class PeakOrientedLaw(YieldingLaw):
     """Clough's peak-oriented hysteresis: reloading aims at the largest drift seen so far.
 
     (Clough and Johnston 1966.) Used for RC and steel members whose reloading stiffness
@@ -120,20 +120,5 @@ class PeakOrientedLaw(StoryLaw):
         "drift at the last downward zero crossing of the force, m",
     )
 
-    def coefficients(self, stiffness: np.ndarray) -> np.ndarray:
-        """``[d, 3]``: ``k`` (N/m), ``alpha``, ``u_y`` (m) of each story."""
-        d = len(stiffness)
-        p = self.params
-        return np.column_stack(
-            [
-                np.asarray(stiffness, dtype=np.float64),
-                per_story(p.alpha, d, "story_law.alpha"),
-                per_story(p.yield_displacement, d, "story_law.yield_displacement"),
-            ]
-        )
-
     def functions(self) -> LawFunctions:
         return LawFunctions(peak_oriented_force, peak_oriented_rate, peak_oriented_settle)
-
-    def yield_drift(self, n_stories: int) -> np.ndarray:
-        return per_story(self.params.yield_displacement, n_stories, "story_law.yield_displacement")
