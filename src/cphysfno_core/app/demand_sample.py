@@ -9,22 +9,17 @@ predictions (:mod:`cphysfno_core.reporting.edp`), written by
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
-from ..api.registry import get_registry
-from ..config.experiment import parse_config
 from ..data.datasets import load_dataset
-from ..data.layout import DATASET, MODELS
-from ..model.composite import CompositeModel
+from ..data.layout import DATASET
 from ..model.prediction_files import read_motions
 from ..reporting import edp
 from ..reporting.demands import PelicunDemands, write_pelicun_demands
 from ..signals import GroundMotions
-from ..signals.errors import ConfigError
-from .fragility_study import default_model
+from .fragility_study import load_trained_run
 
 
 def write_demand_sample(
@@ -43,18 +38,8 @@ def write_demand_sample(
     Raises:
         ConfigError: the run is not finished or has no such model.
     """
-    run = Path(run)
-    for needed in ("config.json", "metrics.json"):
-        if not (run / needed).is_file():
-            raise ConfigError(f"{run} is not a finished run: it has no {needed}")
-    config = parse_config(json.loads((run / "config.json").read_text()))
-    label = model_label or default_model(json.loads((run / "metrics.json").read_text()))
-    folder = run / MODELS / label
-    if not (folder / "model.json").is_file():
-        raise ConfigError(f"no saved model '{label}' in {run / MODELS}")
-    model = CompositeModel.load(folder)
-    spec = config.structure
-    structure = get_registry().create("structure", spec.name, **spec.params)
+    trained = load_trained_run(Path(run), model_label)
+    model, structure = trained.model, trained.structure
     if motions_file is not None:
         motions = read_motions(motions_file)
         collapsed = np.zeros(motions.n_records, dtype=bool)
@@ -72,4 +57,4 @@ def write_demand_sample(
     path = out or run / "demands" / "demands.csv"
     path.parent.mkdir(parents=True, exist_ok=True)
     written = write_pelicun_demands(path, demands.pid, demands.rid, demands.pfa, collapsed)
-    return written, label
+    return written, trained.label

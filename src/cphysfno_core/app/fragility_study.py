@@ -155,6 +155,47 @@ def default_model(metrics: dict[str, Any]) -> str:
     raise AssertionError("unreachable")
 
 
+@dataclass(frozen=True)
+class TrainedRun:
+    """A finished run with one of its saved models.
+
+    Attributes:
+        config: the run's experiment config.
+        label: the model's label under ``RUN/models``.
+        model: the model.
+        structure: the run's structure, built from its config.
+    """
+
+    config: Any
+    label: str
+    model: CompositeModel
+    structure: Any
+
+
+def load_trained_run(run: Path, model_label: str | None) -> TrainedRun:
+    """The run's config, the model ``model_label`` (default :func:`default_model`) and the
+    structure.
+
+    Raises:
+        ConfigError: the run is not finished or has no such model (the message lists those
+            it has).
+    """
+    for needed in ("config.json", "metrics.json"):
+        if not (run / needed).is_file():
+            raise ConfigError(f"{run} is not a finished run: it has no {needed}")
+    config = parse_config(json.loads((run / "config.json").read_text()))
+    label = model_label or default_model(json.loads((run / "metrics.json").read_text()))
+    folder = run / MODELS / label
+    if not (folder / "model.json").is_file():
+        known = sorted(p.name for p in (run / MODELS).iterdir() if (p / "model.json").is_file())
+        raise ConfigError(
+            f"no saved model '{label}' in {run / MODELS}: use one of {', '.join(known)}"
+        )
+    spec = config.structure
+    structure = get_registry().create("structure", spec.name, **spec.params)
+    return TrainedRun(config, label, CompositeModel.load(folder), structure)
+
+
 def demand_values(demands: edp.EDPs, demand: str) -> np.ndarray:
     """``[n]`` the demand of each record: the largest PID over stories or PFA over floors
     (floor 0, the ground, left out)."""
@@ -204,21 +245,15 @@ def run_fragility(
         raise ConfigError(
             f"unknown intensity measure '{measure}': use one of {', '.join(INTENSITY_MEASURES)}"
         )
-    for needed in ("config.json", "metrics.json", DATASET):
-        if not (run / needed).is_file():
-            raise ConfigError(f"{run} is not a finished run: it has no {needed}")
-    config = parse_config(json.loads((run / "config.json").read_text()))
-    metrics = json.loads((run / "metrics.json").read_text())
-    label = model_label or default_model(metrics)
-    folder = run / MODELS / label
-    if not (folder / "model.json").is_file():
-        known = sorted(p.name for p in (run / MODELS).iterdir() if (p / "model.json").is_file())
-        raise ConfigError(
-            f"no saved model '{label}' in {run / MODELS}: use one of {', '.join(known)}"
-        )
-    model = CompositeModel.load(folder)
-    spec = config.structure
-    structure = get_registry().create("structure", spec.name, **spec.params)
+    if not (run / DATASET).is_file():
+        raise ConfigError(f"{run} is not a finished run: it has no {DATASET}")
+    trained = load_trained_run(run, model_label)
+    config, label, model, structure = (
+        trained.config,
+        trained.label,
+        trained.model,
+        trained.structure,
+    )
     t1 = float(structure.periods(1)[0])
     data = load_dataset(run / DATASET)
 
