@@ -76,6 +76,16 @@ def integrate_chain(
     return displacement, drift, shear, finite
 
 
+@numba.njit(inline="always", **FAST)
+def story_value(shapes, y, s, offset):
+    """Row ``s`` of ``shapes [d, r]`` times ``y[offset : offset + r]``: a story's drift
+    (m) or drift rate (m/s), or a floor's displacement, from the generalised coordinates."""
+    value = 0.0
+    for j in range(shapes.shape[1]):
+        value += shapes[s, j] * y[offset + j]
+    return value
+
+
 @cache
 def rk4_kernel(functions: LawFunctions, n_states: int):
     """The compiled integrator of a building whose stories follow ``functions``."""
@@ -86,11 +96,8 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
     def rates(y, ag_now, damping, force_map, drift_map, part, coef, out, story_rate, shear):
         r, d = part.shape[0], drift_map.shape[0]
         for s in range(d):
-            v = 0.0
-            v_dot = 0.0
-            for j in range(r):
-                v += drift_map[s, j] * y[j]
-                v_dot += drift_map[s, j] * y[r + j]
+            v = story_value(drift_map, y, s, 0)
+            v_dot = story_value(drift_map, y, s, r)
             state = y[2 * r + s * width : 2 * r + (s + 1) * width]
             shear[s] = force(coef[s], v, state)
             rate(coef[s], v, v_dot, state, story_rate)
@@ -109,12 +116,8 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
     def sample(y, k, drift_map, floors, coef, disp_out, drift_out, shear_out):
         r, d = floors.shape[1], floors.shape[0]
         for s in range(d):
-            u = 0.0
-            v = 0.0
-            for j in range(r):
-                u += floors[s, j] * y[j]
-                v += drift_map[s, j] * y[j]
-            disp_out[k, s] = u
+            v = story_value(drift_map, y, s, 0)
+            disp_out[k, s] = story_value(floors, y, s, 0)
             drift_out[k, s] = v
             shear_out[k, s] = force(coef[s], v, y[2 * r + s * width : 2 * r + (s + 1) * width])
 
@@ -179,9 +182,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
                     for m in range(size):
                         y[m] += h * total[m]
                     for s in range(d):
-                        v = 0.0
-                        for j in range(r):
-                            v += drift_map[s, j] * y[j]
+                        v = story_value(drift_map, y, s, 0)
                         settle(coef[s], v, y[2 * r + s * width : 2 * r + (s + 1) * width])
                 sample(
                     y,
