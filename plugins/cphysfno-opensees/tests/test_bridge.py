@@ -9,7 +9,7 @@ from cphysfno_opensees.bridge.analysis import analyse
 from cphysfno_opensees.bridge.structure import AuburnRavineBridge
 
 import cphysfno_core as cp
-from cphysfno_core import CapabilityError, GroundMotions
+from cphysfno_core import GroundMotions
 
 
 def relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
@@ -76,10 +76,14 @@ def test_relaxed_at_five_times_the_step_stays_near_the_fine_response(bridge, rec
     assert np.all(error < 0.4), error
 
 
-def test_modal_reduction_needs_a_restoring_force_the_bridge_does_not_have(bridge):
-    modal = cp.create("preprocessor", "modal", modes=3)
-    with pytest.raises(CapabilityError, match="auburn-ravine-bridge.*restoring_force"):
-        modal.fit(bridge)
+def test_modal_reduction_of_the_bridge_is_its_linear_modal_truncation(bridge, record, els):
+    """Without a restoring force, all modes are the ELS; three modes are not."""
+    n_dof = bridge.linear_system().n_dof
+    full = cp.create("preprocessor", "modal", modes=n_dof).fit(bridge).transform(record)
+    linear = els.transform(record)
+    assert np.all(relative_l2(full, linear) < 1e-8)
+    three = cp.create("preprocessor", "modal", modes=3).fit(bridge).transform(record)
+    assert np.all(np.isfinite(three)) and np.any(relative_l2(three, linear) > 1e-3)
 
 
 def test_a_record_that_does_not_converge_is_a_named_failure(record):

@@ -9,7 +9,7 @@ import pytest
 import script_models as sm
 
 import cphysfno_core as cp
-from cphysfno_core import CapabilityError, GroundMotions
+from cphysfno_core import GroundMotions
 from cphysfno_core.testing import check_structure
 from cphysfno_core.testing.physics import linear_response
 
@@ -89,10 +89,14 @@ def test_the_relaxed_preprocessor_runs_the_model_on_a_coarse_grid(frame, strong)
     assert coarse.dt == 0.05 and coarse.displacement.shape == (2, 81, 2)
 
 
-def test_modal_reduction_needs_a_restoring_force_which_a_script_does_not_give(frame):
-    modal = cp.create("preprocessor", "modal", modes=1)
-    with pytest.raises(CapabilityError, match="restoring_force"):
-        modal.check(frame)
+def test_modal_reduction_of_a_script_model_is_its_linear_modal_truncation(frame, strong):
+    """Without a restoring force, all modes are the ELS; the first mode alone is not."""
+    n_dof = frame.linear_system().n_dof
+    full = cp.create("preprocessor", "modal", modes=n_dof).fit(frame).transform(strong)
+    linear = cp.create("preprocessor", "els").fit(frame).transform(strong)
+    assert np.all(sm.relative_l2(full, linear) < 1e-8)
+    first = cp.create("preprocessor", "modal", modes=1).fit(frame).transform(strong)
+    assert np.all(sm.relative_l2(first, linear) > 1e-4)
 
 
 def test_check_structure_passes(frame):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cphysfno_core import ConfigError, Structure, create
+from cphysfno_core import ConfigError, LinearSystem, Structure, create
 
 
 def test_all_modes_reproduce_the_full_model(toy, toy_motions, toy_truth, relative_l2):
@@ -80,3 +80,35 @@ def test_the_structures_projected_simulation_is_the_generic_path(
     reference = create("preprocessor", "modal").fit(generic).transform(motions)
     assert fast.shape == reference.shape and fast.dtype == np.float64
     assert np.all(relative_l2(fast, reference) <= 1e-5)
+
+
+def test_without_a_restoring_force_all_modes_are_the_linear_response(
+    toy_without_restoring_force, toy_motions, lsim_response, relative_l2
+):
+    modal = create("preprocessor", "modal", modes=3).fit(toy_without_restoring_force)
+    assert modal.restoring_force_ is None
+    expected = lsim_response(toy_without_restoring_force.linear_system(), toy_motions)
+    assert np.all(relative_l2(modal.transform(toy_motions), expected) <= 1e-6)
+
+
+def test_without_a_restoring_force_one_mode_is_the_first_modal_oscillator(
+    toy_without_restoring_force, toy_motions, lsim_response, relative_l2
+):
+    """r = 1: the outputs are L phi_1 q_1 with q_1 the damped oscillator of mode 1."""
+    system = toy_without_restoring_force.linear_system()
+    frequencies, shapes = np.linalg.eig(np.linalg.solve(system.mass, system.stiffness))
+    first = shapes[:, [np.argmin(frequencies)]].real
+    first /= np.sqrt(first.T @ system.mass @ first)
+    oscillator = LinearSystem(
+        mass=np.eye(1),
+        damping=first.T @ system.damping @ first,
+        stiffness=np.array([[np.min(frequencies.real)]]),
+        influence=first.T @ system.mass @ system.influence,
+        output_map=system.output_map @ first,
+    )
+    expected = lsim_response(oscillator, toy_motions)
+    one = create("preprocessor", "modal", modes=1).fit(toy_without_restoring_force)
+    z = one.transform(toy_motions)
+    assert np.all(relative_l2(z, expected) <= 1e-6)
+    full = lsim_response(system, toy_motions)
+    assert np.all(relative_l2(z, full) > 1e-3)

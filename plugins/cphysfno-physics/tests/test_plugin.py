@@ -57,7 +57,6 @@ def test_transform_before_fit_is_not_fitted(name, toy_motions):
 @pytest.mark.parametrize(
     ("name", "structure", "capability"),
     [
-        ("modal", "toy_without_restoring_force", "restoring_force"),
         ("relaxed", "toy_without_restoring_force", "coarse_simulation"),
         ("els", "toy_without_linear_system", "linear_system"),
         ("modal", "toy_without_linear_system", "linear_system"),

@@ -9,9 +9,10 @@ from pydantic import Field
 from scipy.linalg import eigh
 
 import cphysfno_core
-from cphysfno_core import ConfigError, GroundMotions, PhysicsPreprocessor, Structure
+from cphysfno_core import ConfigError, GroundMotions, LinearSystem, PhysicsPreprocessor, Structure
 
 from .fitted import check_fitted
+from .linear_response import linear_response
 
 MAX_STEP_ANGLE = 0.25
 """Largest ``omega_r h`` (rad) of an automatically chosen Runge-Kutta sub-step ``h``."""
@@ -34,18 +35,26 @@ class ModalReduction(PhysicsPreprocessor):
     itself (:meth:`Structure.simulate_projected`, typically compiled); otherwise this class
     does, in NumPy, from the structure's ``restoring_force``.
 
+    A structure without ``restoring_force`` (an OpenSees model, whose forces only OpenSees
+    knows) gets the linear modal truncation: ``f = K u`` and no internal state, so
+    ``q_i'' + (C_r q')_i + omega_i^2 q_i = -Gamma_i a_g``, solved exactly for ``a_g`` linear
+    between samples. It is the ELS restricted to ``r`` modes: it carries no yielding.
+
     Fitted attributes (``q`` is in m sqrt(kg)):
         shapes_: ``[n_dof, r]`` mass-normalised mode shapes in 1/sqrt(kg).
         frequencies_: ``[r]`` elastic circular frequencies in rad/s, ascending.
         modal_damping_: ``[r, r]`` ``C_r`` in 1/s.
         participation_: ``[r]`` ``Phi_r^T M r`` in sqrt(kg).
         output_shapes_: ``[n_outputs, r]`` ``L Phi_r`` in 1/sqrt(kg).
-        restoring_force_: the structure's restoring force.
+        restoring_force_: the structure's restoring force; None for the linear truncation.
+        reduced_system_: the reduced linear system ``(I, C_r, diag(omega^2))`` in ``q``
+            with the outputs ``L Phi_r``, which the linear truncation solves; None where
+            the structure has a restoring force.
         structure_: the structure, which integrates the reduced model where it can.
     """
 
     name = "modal"
-    requires = frozenset({"linear_system", "restoring_force"})
+    requires = frozenset({"linear_system"})
 
     class Params(cphysfno_core.Params):
         modes: int = Field(2, ge=1, description="number r of retained modes, 1 <= r <= n_dof")
@@ -56,8 +65,8 @@ class ModalReduction(PhysicsPreprocessor):
         )
 
     def fit(self, structure: Structure) -> ModalReduction:
-        """Compute the modes and reduced matrices (capabilities ``linear_system`` and
-        ``restoring_force``)."""
+        """Compute the modes and reduced matrices (capability ``linear_system``; with
+        ``restoring_force`` the reduced model is nonlinear, without it linear)."""
         self.check(structure)
         system = structure.linear_system()
         r = self.params.modes
@@ -72,8 +81,19 @@ class ModalReduction(PhysicsPreprocessor):
         self.modal_damping_ = vectors.T @ system.damping @ vectors
         self.participation_ = vectors.T @ system.mass @ system.influence
         self.output_shapes_ = system.output_map @ vectors
-        self.restoring_force_ = structure.restoring_force()
         self.structure_ = structure
+        if "restoring_force" in structure.capabilities:
+            self.restoring_force_ = structure.restoring_force()
+            self.reduced_system_ = None
+        else:
+            self.restoring_force_ = None
+            self.reduced_system_ = LinearSystem(
+                mass=np.eye(r),
+                damping=self.modal_damping_,
+                stiffness=np.diag(self.frequencies_**2),
+                influence=self.participation_,
+                output_map=self.output_shapes_,
+            )
         return self
 
     def substeps_for(self, dt: float) -> int:
@@ -86,6 +106,8 @@ class ModalReduction(PhysicsPreprocessor):
     def transform(self, motions: GroundMotions) -> np.ndarray:
         """``[n_records, n_steps, n_outputs]`` reduced-model displacements in m."""
         check_fitted(self, "shapes_")
+        if self.reduced_system_ is not None:
+            return linear_response(self.reduced_system_, motions.acceleration, motions.dt)
         n_sub = self.substeps_for(motions.dt)
         if "projected_simulation" in self.structure_.capabilities:
             projected = self.structure_.simulate_projected(motions, self.shapes_, substeps=n_sub)
