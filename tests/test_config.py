@@ -61,3 +61,40 @@ def test_load_config_reports_the_file_and_bad_toml(toy_registry, tmp_path):
         cp.load_config(path)
     with pytest.raises(cp.ConfigError, match="cannot read config"):
         cp.load_config(tmp_path / "missing.toml")
+
+
+def test_relative_paths_in_a_config_file_are_taken_from_its_folder(tmp_path, monkeypatch):
+    """The script and the records' folder resolve beside the config, from any directory."""
+    folder = tmp_path / "study"
+    (folder / "records").mkdir(parents=True)
+    (folder / "config.toml").write_text(
+        '[structure]\nname = "opensees-model"\nscript = "models/frame.py"\n'
+        "outputs = [[2, 1]]\n"
+        '[ground_motion]\nname = "recorded"\nfolder = "records"\n'
+        '[[preprocessor]]\nname = "els"\n[operator]\nname = "fno"\n'
+    )
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    config = cp.load_config(folder / "config.toml")
+    assert config.structure.params["script"] == str(folder / "models" / "frame.py")
+    assert config.ground_motion.params["folder"] == str(folder / "records")
+    assert config.structure.params["outputs"] == [[2, 1]]
+
+
+def test_absolute_paths_and_paths_in_a_mapping_are_kept(tmp_path):
+    script = tmp_path / "frame.py"
+    data = {
+        "structure": {"name": "opensees-model", "script": str(script), "outputs": [[2, 1]]},
+        "ground_motion": {"name": "white-noise"},
+        "preprocessor": {"name": "els"},
+        "operator": {"name": "fno"},
+    }
+    (tmp_path / "absolute.toml").write_text(
+        f'[structure]\nname = "opensees-model"\nscript = "{script}"\noutputs = [[2, 1]]\n'
+        '[ground_motion]\nname = "white-noise"\n[[preprocessor]]\nname = "els"\n'
+        '[operator]\nname = "fno"\n'
+    )
+    assert cp.load_config(tmp_path / "absolute.toml").structure.params["script"] == str(script)
+    relative = {**data, "structure": {**data["structure"], "script": "frame.py"}}
+    assert cp.parse_config(relative).structure.params["script"] == "frame.py"

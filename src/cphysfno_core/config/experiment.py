@@ -2,12 +2,15 @@
 
 Each component section is ``name = "..."`` plus that component's own fields, which are
 checked against the component's ``Params`` model once plugins are discovered, so a wrong
-field fails with its path (``operator.modes: ...``).
+field fails with its path (``operator.modes: ...``). A component field typed as a path
+(``pathlib.Path``) that is relative in a config file is taken from that file's folder.
 """
 
 from __future__ import annotations
 
 import tomllib
+import types
+import typing
 from pathlib import Path
 from typing import Any, Literal
 
@@ -265,7 +268,11 @@ def parse_config(data: dict[str, Any], registry: Registry | None = None) -> Expe
 
 
 def load_config(path: str | Path, registry: Registry | None = None) -> ExperimentConfig:
-    """Read and validate an experiment TOML file."""
+    """Read and validate an experiment TOML file.
+
+    Relative paths in component fields typed as paths (an OpenSees script, a folder of
+    records) are taken from the file's folder, so the config runs from any directory.
+    """
     path = Path(path)
     try:
         text = path.read_text()
@@ -276,6 +283,46 @@ def load_config(path: str | Path, registry: Registry | None = None) -> Experimen
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(f"{path} is not valid TOML: {error}") from None
     try:
-        return parse_config(data, registry)
+        return parse_config(_paths_from(path.parent, data, registry), registry)
     except ConfigError as error:
         raise ConfigError(f"{path}: {error}") from None
+
+
+def _paths_from(folder: Path, data: dict[str, Any], registry: Registry | None) -> dict[str, Any]:
+    """``data`` with the relative path fields of its components joined to ``folder``."""
+    registry = registry or get_registry()
+    resolved = dict(data)
+    for kind in (k for k in KINDS if k.name in ExperimentConfig.model_fields):
+        value = data.get(kind.name)
+        sections = value if isinstance(value, list) else [value]
+        if not all(isinstance(s, dict) and isinstance(s.get("name"), str) for s in sections):
+            continue  # left for validation to report
+        joined = []
+        for section in sections:
+            try:
+                params = registry.get(kind.name, section["name"]).Params
+            except LookupError:
+                joined.append(section)
+                continue
+            joined.append(
+                {
+                    key: str(folder / item)
+                    if key in params.model_fields
+                    and _is_path(params.model_fields[key].annotation)
+                    and isinstance(item, str)
+                    and not Path(item).expanduser().is_absolute()
+                    else item
+                    for key, item in section.items()
+                }
+            )
+        resolved[kind.name] = joined if isinstance(value, list) else joined[0]
+    return resolved
+
+
+def _is_path(annotation: Any) -> bool:
+    """Whether a field annotation is ``Path`` or ``Path | None``."""
+    if annotation is Path:
+        return True
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        return any(_is_path(arg) for arg in typing.get_args(annotation))
+    return False

@@ -32,11 +32,11 @@ class OpenSeesModelParams(OpenSeesParams):
     """Parameters of :class:`OpenSeesModel`: the script, its outputs, the damping, the
     gravity loads, the units and the constraint handler."""
 
-    script: str = Field(
-        min_length=1,
+    script: Path = Field(
         description="Python file defining build(), which creates the model in OpenSeesPy's "
         "domain (nodes, fixities, masses, materials, elements; no damping, loads or "
-        "analysis); a relative path is taken from the working directory",
+        "analysis); relative to the config file's folder in a config, else to the working "
+        "directory",
     )
     outputs: list[tuple[Node, Dof]] = Field(
         min_length=1,
