@@ -1,6 +1,8 @@
 """A record that collapses the structure is data: flagged, kept with NaN after the
-collapse, left out of training, counted in the file."""
+collapse, left out of training, counted in the file and the report. What the simulator
+printed is shown once per distinct message and kept in full."""
 
+import json
 import sys
 
 import numpy as np
@@ -10,6 +12,7 @@ import toy_components
 import cphysfno_core as cp
 from cphysfno_core.api.registry import set_registry
 from cphysfno_core.app import pipeline
+from cphysfno_core.app.cli import main
 from cphysfno_core.app.inspection import describe_file
 
 CONFIG = {
@@ -21,13 +24,14 @@ CONFIG = {
 }
 
 
-class CollapsingStructure(toy_components.ToyStructure):
+class CollapsingStructure(toy_components.StoriedToyStructure):
     """The toy structure; a record whose peak |a_g| exceeds ``limit`` collapses it at its
-    30th sample."""
+    30th sample. It prints a warning with the record's peak for every record, and one
+    more line for a collapse."""
 
     name = "toy-collapsing"
 
-    class Params(toy_components.ToyStructure.Params):
+    class Params(toy_components.StoriedToyStructure.Params):
         limit: float = 1.0
 
     def simulate(self, motions, *, dt=None):
@@ -35,7 +39,13 @@ class CollapsingStructure(toy_components.ToyStructure):
         collapsed = np.max(np.abs(motions.acceleration), axis=1) > self.params.limit
         displacement = responses.displacement.copy()
         displacement[collapsed, 30:] = np.nan
-        return cp.Responses(displacement, responses.dt, collapsed=collapsed)
+        peaks = np.max(np.abs(motions.acceleration), axis=1)
+        messages = {
+            i: f"WARNING: peak {peak:.4f} m/s^2\n"
+            + ("Newton failed at t = 0.30 s\n" if collapsed[i] else "")
+            for i, peak in enumerate(peaks)
+        }
+        return cp.Responses(displacement, responses.dt, collapsed=collapsed, messages=messages)
 
 
 @cp.hookimpl
@@ -70,6 +80,59 @@ def test_collapsed_records_are_kept_flagged_and_left_out_of_training(registry, t
     assert flagged.tolist() == collapsed.tolist()
     assert "collapsed records: 3" in describe_file(tmp_path / "run" / "dataset.h5")
     pipeline.train(config, tmp_path / "run")  # trains on the records that did not collapse
+
+
+def test_the_run_reports_how_many_records_collapsed_and_fits_their_fragility(
+    registry, tmp_path, capsys
+):
+    source = cp.create("ground_motion", "toy-source", n_steps=60, scale=0.2)
+    peaks = np.max(np.abs(source.sample(15, np.random.default_rng(0)).acceleration), axis=1)
+    limit = float(np.sort(peaks)[-4])
+    config = cp.parse_config({**CONFIG, "structure": {"name": "toy-collapsing", "limit": limit}})
+    pipeline.run(config, tmp_path / "run")
+    collapsed = peaks > limit
+    expected = {
+        split: int(collapsed[rows].sum())
+        for split, rows in (("train", slice(0, 8)), ("val", slice(8, 11)), ("test", slice(11, 15)))
+    }
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert metrics["left_out"]["collapsed"] == expected
+    assert metrics["left_out"]["failed"] == {"train": 0, "val": 0, "test": 0}
+    report = (tmp_path / "run" / "report.md").read_text()
+    line = (
+        "- left out of training and of the error tables: 3 collapsed the structure "
+        f"({expected['train']} train / {expected['val']} validation / {expected['test']} test)"
+    )
+    assert line in report
+    data = cp.load_dataset(tmp_path / "run" / "dataset.h5")
+    standing = cp.edp.compute(data.targets("test"), registry.create("structure", "toy-storied"),
+                              data.motions("test"))  # fmt: skip
+    threshold = float(np.median(standing.pid.max(axis=1)))
+    arguments = ["fragility", str(tmp_path / "run"), "--records", "30", "--bootstrap", "5"]
+    assert main([*arguments, "--limit-states", f"pid={threshold:.6g}"]) == 0, capsys.readouterr()
+    document = json.loads((tmp_path / "run" / "fragility" / "fragility.json").read_text())
+    assert document["collapsed_test_records"] == expected["test"]
+    assert document["collapse"]["median"] > 0 and document["collapse"]["beta"] > 0
+
+
+def test_the_simulators_messages_are_shown_once_each_and_kept_in_full(
+    registry, tmp_path, capsys
+):
+    source = cp.create("ground_motion", "toy-source", n_steps=60, scale=0.2)
+    peaks = np.max(np.abs(source.sample(15, np.random.default_rng(0)).acceleration), axis=1)
+    limit = float(np.sort(peaks)[-4])
+    config = cp.parse_config({**CONFIG, "structure": {"name": "toy-collapsing", "limit": limit}})
+    path = tmp_path / "dataset.h5"
+    cp.generate_dataset(config, path, progress=True)
+    shown = capsys.readouterr().err
+    assert "the simulator printed 2 distinct messages" in shown
+    assert "15 times in    15 records: WARNING: peak # m/s^2" in shown
+    assert "3 times in     3 records: Newton failed at t = # s" in shown
+    assert shown.count("WARNING: peak") == 1
+    log = (tmp_path / "dataset-messages.log").read_text()
+    for i, peak in enumerate(peaks):
+        assert f"record {i}:\nWARNING: peak {peak:.4f} m/s^2\n" in log
+    assert log.count("Newton failed at t = 0.30 s") == 3
 
 
 def test_a_split_that_only_collapses_says_so(registry, tmp_path):

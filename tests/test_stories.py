@@ -23,6 +23,22 @@ def test_piers_over_the_ground_are_stories_too():
     assert stories.floors == (0, 1)
 
 
+def test_drifts_and_the_first_sample_past_a_drift_ratio_by_hand():
+    stories = cp.Stories.stacked([4.0, 2.0])
+    # two records, three samples, two floors (m)
+    u = np.array(
+        [
+            [[0.0, 0.0], [0.1, 0.15], [0.3, 0.32]],  # story 1: 0.025, 0.075; story 2: 0.025, 0.01
+            [[0.0, 0.0], [-0.1, -0.3], [0.0, 0.0]],  # story 2 drifts -0.2 m: ratio 0.1 at 1
+        ]
+    )
+    np.testing.assert_allclose(stories.drifts(u)[0, :, 1], [0.0, 0.05, 0.02])
+    np.testing.assert_allclose(stories.drifts(u)[1, 1], [-0.1, -0.2])
+    assert stories.first_past(u, 0.05).tolist() == [2, 1]
+    assert stories.first_past(u, 0.09).tolist() == [-1, 1]
+    assert stories.first_past(u, 0.1).tolist() == [-1, -1]
+
+
 @pytest.mark.parametrize(
     ("lower", "upper", "heights", "message"),
     [

@@ -1,4 +1,5 @@
-"""Records analysed in worker processes: order, recycling, failures, crashes and bugs."""
+"""Records analysed in worker processes: order, recycling, collapses, crashes, bugs and
+what the analyses print."""
 
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ ANALYSES = '''
 
 import os
 import signal
+import sys
 
 import numpy as np
 
@@ -36,9 +38,23 @@ def scaled_once(ag, dt):
 
 
 def fails_on_negative_start(ag, dt):
-    """Does not converge where the record starts below zero."""
+    """Does not converge at step 7 where the record starts below zero."""
     if ag[0] < 0:
-        raise AnalysisFailed(dt * 7, "everything")
+        raise AnalysisFailed(dt * 7, "everything", scaled(ag, dt, 1.0)[:7])
+    return scaled(ag, dt, 1.0)
+
+
+def fails_without_history(ag, dt):
+    """Does not converge, and knows nothing of the steps before."""
+    raise AnalysisFailed(0.0, "everything")
+
+
+def talks(ag, dt):
+    """Prints as OpenSees does: a warning on stderr for every record, a count on stdout
+    for a record that starts below zero."""
+    print('WARNING: DO NOT USE THE "Bilin" MATERIAL', file=sys.stderr)
+    if ag[0] < 0:
+        print(f"failed to converge after: {int(10 + 10 * ag[1] ** 2)} iterations")
     return scaled(ag, dt, 1.0)
 
 
@@ -82,8 +98,9 @@ def records() -> np.ndarray:
 
 def test_every_record_lands_in_its_row_and_workers_are_recycled(analyses, records):
     analyse = functools.partial(analyses.scaled, gain=2.0)
-    u, failures = run_records(analyse, records, 0.01, 2, workers=2, records_per_worker=2)
-    assert failures == {}
+    runs = run_records(analyse, records, 0.01, 2, workers=2, records_per_worker=2)
+    u = runs.displacement
+    assert runs.failures == {} and not runs.collapsed.any() and runs.messages == {}
     assert u.shape == (7, 50, 2) and u.dtype == np.float64
     np.testing.assert_array_equal(u[:, :, 0], 2.0 * records)
     pids = u[:, 0, 1]
@@ -91,17 +108,42 @@ def test_every_record_lands_in_its_row_and_workers_are_recycled(analyses, record
     assert max(np.sum(pids == pid) for pid in set(pids)) <= 2
 
 
-def test_records_that_do_not_converge_are_nan_rows_with_their_cause(analyses, records):
-    u, failures = run_records(analyses.fails_on_negative_start, records, 0.01, 2, workers=2)
-    assert set(failures) == {1, 4}
-    assert failures[1] == "did not converge at t = 0.07 s after everything"
-    assert np.isnan(u[[1, 4]]).all()
+def test_records_that_do_not_converge_collapsed_with_their_history_until_then(
+    analyses, records
+):
+    runs = run_records(analyses.fails_on_negative_start, records, 0.01, 2, workers=2)
+    u = runs.displacement
+    assert runs.failures == {}
+    assert np.flatnonzero(runs.collapsed).tolist() == [1, 4]
+    assert runs.collapse_causes[1] == "did not converge at t = 0.07 s after everything"
+    np.testing.assert_array_equal(u[[1, 4], :7, 0], records[[1, 4], :7])
+    assert np.isnan(u[[1, 4], 7:]).all()
     np.testing.assert_array_equal(u[[0, 2, 3, 5, 6], :, 0], records[[0, 2, 3, 5, 6]])
 
 
+def test_a_collapse_without_history_is_nan_throughout(analyses, records):
+    runs = run_records(analyses.fails_without_history, records[:2], 0.01, 2)
+    assert runs.collapsed.all() and np.isnan(runs.displacement).all()
+
+
+def test_what_an_analysis_prints_comes_back_by_record(analyses, records, capfd):
+    runs = run_records(analyses.talks, records, 0.01, 2, workers=2, records_per_worker=3)
+    assert sorted(runs.messages) == list(range(7))
+    assert runs.messages[0] == 'WARNING: DO NOT USE THE "Bilin" MATERIAL\n'
+    for i in (1, 4):
+        count = int(10 + 10 * records[i, 1] ** 2)
+        assert runs.messages[i] == (
+            'WARNING: DO NOT USE THE "Bilin" MATERIAL\n'
+            f"failed to converge after: {count} iterations\n"
+        )
+    shown = capfd.readouterr()
+    assert "Bilin" not in shown.out + shown.err
+
+
 def test_a_worker_that_dies_fails_its_record_and_the_rest_go_on(analyses, records):
-    u, failures = run_records(analyses.crashes_on_negative_start, records, 0.01, 2, workers=2)
-    assert set(failures) == {1, 4}
+    runs = run_records(analyses.crashes_on_negative_start, records, 0.01, 2, workers=2)
+    u, failures = runs.displacement, runs.failures
+    assert set(failures) == {1, 4} and not runs.collapsed.any()
     assert "SIGSEGV" in failures[4] and "died" in failures[4]
     assert np.isnan(u[[1, 4]]).all()
     np.testing.assert_array_equal(u[[0, 2, 3, 5, 6], :, 0], records[[0, 2, 3, 5, 6]])
@@ -121,7 +163,7 @@ def test_progress_is_logged(analyses, records, caplog):
     with caplog.at_level(logging.INFO, logger="cphysfno_opensees.runner"):
         analyse = functools.partial(analyses.scaled, gain=1.0)
         run_records(analyse, records[:2], 0.01, 2, description="test set")
-    assert "test set: 2/2 records (0 failed)" in caplog.text
+    assert "test set: 2/2 records (0 collapsed, 0 failed)" in caplog.text
 
 
 @pytest.mark.parametrize(
@@ -167,6 +209,6 @@ def test_records_run_inside_dask_workers_of_the_local_cluster(analyses, records)
     settings = DataConfig(executor="dask", workers=1)
     with _dask_client(settings) as client:
         run = functools.partial(run_records, workers=2)  # submit() takes workers itself
-        u, failures = client.submit(run, analyses.scaled_once, records, 0.01, 2).result(300)
-    assert failures == {}
-    np.testing.assert_array_equal(u[:, :, 0], records)
+        runs = client.submit(run, analyses.scaled_once, records, 0.01, 2).result(300)
+    assert runs.failures == {}
+    np.testing.assert_array_equal(runs.displacement[:, :, 0], records)

@@ -278,3 +278,34 @@ def test_a_gravity_function_may_analyse_its_loads_itself(folder, frame, strong, 
     motion = GroundMotions(strong.acceleration[:1], strong.dt)
     expected = frame.simulate(motion).displacement
     assert np.all(sm.relative_l2(model.simulate(motion).displacement, expected) < 1e-6)
+
+
+def test_a_record_past_the_collapse_drift_collapsed_and_the_others_are_unchanged(
+    frame_script, strong
+):
+    """Of a batch of two yielding records and one three times as strong, only the strong
+    one passes a collapse_drift set between their peak drift ratios: it is marked, holds
+    its history up to the first sample past the limit and NaN after; the others are what
+    they are alone."""
+    params = {"script": str(frame_script), "outputs": FLOORS, "gravity": "gravity"}
+    free = cp.create("structure", "opensees-model", collapse_drift=None, **params)
+    batch = GroundMotions(
+        np.stack([strong.acceleration[0], 3.0 * strong.acceleration[0], strong.acceleration[1]]),
+        strong.dt,
+    )
+    unlimited = free.simulate(batch)
+    assert not unlimited.collapsed.any()
+    stories = free.stories()
+    peaks = np.max(np.abs(stories.drifts(unlimited.displacement)) / stories.heights_m, axis=(1, 2))
+    assert peaks[1] > 1.2 * max(peaks[0], peaks[2])
+    limit = 0.5 * (peaks[1] + max(peaks[0], peaks[2]))
+    limited = cp.create("structure", "opensees-model", collapse_drift=limit, **params)
+    responses = limited.simulate(batch)
+    assert responses.collapsed.tolist() == [False, True, False] and not responses.failures
+    u, reference = responses.displacement, unlimited.displacement
+    np.testing.assert_array_equal(u[[0, 2]], reference[[0, 2]])
+    first = int(stories.first_past(reference[1:2], limit)[0])
+    ratio = np.abs(stories.drifts(reference[1:2])) / np.asarray(stories.heights_m)
+    assert ratio[0, first].max() > limit >= ratio[0, :first].max()
+    np.testing.assert_array_equal(u[1, : first + 1], reference[1, : first + 1])
+    assert np.isnan(u[1, first + 1 :]).all()

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import logging
+import re
+
 import numpy as np
 import pytest
 import script_models as sm
@@ -136,16 +139,26 @@ def test_bad_parameters_fail_before_any_work(params, message):
                   **{"outputs": [[2, 1]], **params})  # fmt: skip
 
 
-def test_a_record_that_does_not_converge_is_reported_with_its_metadata(tmp_path):
+def test_a_record_that_does_not_converge_collapsed_the_structure(tmp_path, caplog):
     """Two springs in series that yield at once leave the node between them without
-    stiffness, mass or damping: no step converges past that instant."""
+    stiffness, mass or damping: no step converges past that instant. The record collapsed
+    the model: its history holds up to the last step that converged, the cause is logged
+    with the record's metadata, and OpenSees' complaints come back with the record."""
     structure = model(tmp_path, "series", SERIES, outputs=[[3, 1]], rayleigh_modes=[1, 1])
     motions = sm.records(n=3, peak=30.0, n_steps=101)
     scaled = np.array([1.0, 0.01, 1.0])[:, None] * motions.acceleration
     metadata = [{"rsn": 12, "scale": 1.5}, {"rsn": 13, "scale": 0.01}, {"rsn": 14, "scale": 1}]
-    responses = structure.simulate(GroundMotions(scaled, motions.dt, metadata))
-    assert set(responses.failures) == {0, 2}
-    assert responses.failures[0].startswith("did not converge at t = ")
-    assert responses.failures[0].endswith("(rsn = 12, scale = 1.5)")
-    assert np.isnan(responses.displacement[[0, 2]]).all()
-    assert np.isfinite(responses.displacement[1]).all()
+    with caplog.at_level(logging.INFO, logger="cphysfno_opensees.structure"):
+        responses = structure.simulate(GroundMotions(scaled, motions.dt, metadata))
+    assert responses.failures == {}
+    assert responses.collapsed.tolist() == [True, False, True]
+    assert re.search(r"record 0 collapsed the structure: did not converge at t = .* "
+                     r"\(rsn = 12, scale = 1.5\)", caplog.text)  # fmt: skip
+    u = responses.displacement
+    for i in (0, 2):
+        stopped = int(np.argmax(np.isnan(u[i, :, 0])))
+        assert stopped > 1 and np.isfinite(u[i, :stopped]).all() and np.isnan(u[i, stopped:]).all()
+        assert "analyze failed" in responses.messages[i]
+    assert np.isfinite(u[1]).all()
+    one = structure.simulate(GroundMotions(scaled[:1], motions.dt)).displacement[0]
+    np.testing.assert_array_equal(one, u[0])

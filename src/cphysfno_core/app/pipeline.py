@@ -221,6 +221,7 @@ def evaluate(
         "models": results,
         "output_names": list(data.output_names),
         "sizes": {**data.sizes, "train": calibration_records["training"]},
+        "left_out": data.left_out(),
         "epochs": config.training.epochs,
         "precision": config.training.precision,
         "worse_than_physics": worse,

@@ -73,6 +73,17 @@ class Dataset:
         rows = self._split_rows(split)
         return rows[self.collapsed[rows]]
 
+    def left_out(self) -> dict[str, dict[str, int]]:
+        """How many records of each split collapsed the structure and how many failed
+        (``{"collapsed": {"train": 2, "val": 0, "test": 1}, "failed": {...}}``): the records
+        that training and the error tables leave out."""
+        failed = np.zeros(self.u.shape[0], dtype=bool)
+        failed[list(self.failures)] = True
+        return {
+            name: {split: int(flags[self._split_rows(split)].sum()) for split in SPLITS}
+            for name, flags in (("collapsed", self.collapsed), ("failed", failed))
+        }
+
     def rows(self, split: str) -> np.ndarray:
         """The record indices of ``split`` (``train``, ``val`` or ``test``), failed and
         collapsed records left out; DatasetError if every record of the split failed or

@@ -9,12 +9,15 @@ also sampled block by block, so no stage holds all records in memory. With
 records lies in one split (:func:`.grouped_split.grouped_order`). Started again with the same
 configuration, generation simulates only the missing chunks. When all are there they are
 assembled into the HDF5 file (again written aside and renamed), and the folder is removed:
-a dataset file at the final path is always complete.
+a dataset file at the final path is always complete. What the simulator printed for each
+record (its warnings) is shown at the end, each distinct message once with its count, and
+kept in full in ``<name>-messages.log`` beside the dataset.
 """
 
 from __future__ import annotations
 
 import json
+import logging
 import os
 import shutil
 import time
@@ -41,8 +44,11 @@ from .datasets import (
     versions,
 )
 from .executors import run_tasks
+from .messages import full_log, summary
 from .simulation import ChunkResult, simulate_chunk
 from .splits import grouped_order
+
+logger = logging.getLogger(__name__)
 
 SAMPLE_BLOCK = 256
 """Records drawn per call from a source with independent draws. Fixed, so that the records
@@ -258,9 +264,28 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     if progress and len(todo) < len(bounds):
         show_progress(f"  resuming: {len(bounds) - len(todo)} of {len(bounds)} chunks already done")
     _simulate_chunks(config, structure, motions, bounds, todo, parts, progress)
-    _assemble(config, structure, motions, bounds, parts, path, identity)
+    messages = _assemble(config, structure, motions, bounds, parts, path, identity)
     shutil.rmtree(parts)
+    _report_messages(messages, path, progress)
     return path
+
+
+def messages_log(path: str | Path) -> Path:
+    """The file beside the dataset ``path`` that keeps what the simulator printed for each
+    record, in full."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}-messages.log")
+
+
+def _report_messages(messages: dict[int, str], path: Path, progress: bool) -> None:
+    """Write the simulator's messages in full beside the dataset and show their summary."""
+    log = messages_log(path)
+    if not messages:
+        log.unlink(missing_ok=True)
+        return
+    log.write_text(full_log(messages))
+    if progress:
+        show_progress(f"{summary(messages)}\n  (every record's messages in full: {log})")
 
 
 def progress_line(done: int, total: int, elapsed: float) -> str:
@@ -295,6 +320,9 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
         for index, cause in failures.items():
             if progress:
                 show_progress(f"  record {index} skipped: {cause}")
+        messages = {start + k: text for k, text in result.messages.items()}
+        for index, text in messages.items():
+            logger.info("record %d: the simulator printed\n%s", index, text.rstrip())
         collapsed = np.flatnonzero(result.collapsed)
         if progress and collapsed.size:
             show_progress(
@@ -305,6 +333,7 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
             "u": result.u,
             "collapsed": result.collapsed,
             "failures": np.array(json.dumps(failures)),
+            "messages": np.array(json.dumps(messages)),
         }
         arrays.update({f"z/{name}": values for name, values in result.z.items()})
         arrays.update({f"extras/{name}": values for name, values in result.extras.items()})
@@ -320,9 +349,11 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
     run_tasks(simulate_chunk, todo, arguments, config.data, store)
 
 
-def _assemble(config, structure, motions, bounds, parts, path, identity) -> None:
-    """Copy the chunks, one at a time, into a new HDF5 file renamed into place at the end."""
+def _assemble(config, structure, motions, bounds, parts, path, identity) -> dict[int, str]:
+    """Copy the chunks, one at a time, into a new HDF5 file renamed into place at the end;
+    return what the simulator printed, by record."""
     shape = (motions.n_records, motions.n_steps, structure.n_outputs)
+    messages: dict[int, str] = {}
 
     def write(temporary: Path) -> None:
         failures: dict[str, str] = {}
@@ -351,6 +382,10 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> None
                         if key == "failures":
                             failures.update(json.loads(str(chunk[key])))
                             continue
+                        if key == "messages":
+                            said = json.loads(str(chunk[key]))
+                            messages.update({int(i): text for i, text in said.items()})
+                            continue
                         values = chunk[key]
                         if key not in f:  # extras: float32, they serve the figures
                             f.create_dataset(key, shape=(shape[0], *values.shape[1:]), dtype="f4")
@@ -360,3 +395,4 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> None
             f.attrs["complete"] = True
 
     _write_atomic(path, write)
+    return messages

@@ -25,6 +25,7 @@ class ChunkResult:
         failures: index within the chunk -> cause, for the records that failed.
         collapsed: ``[n]`` whether each record collapsed the structure (its truth holds NaN
             after the collapse; not a failure).
+        messages: index within the chunk -> what the simulator printed for that record.
     """
 
     u: np.ndarray
@@ -32,6 +33,7 @@ class ChunkResult:
     z: dict[str, np.ndarray]
     failures: dict[int, str] = field(default_factory=dict)
     collapsed: np.ndarray | None = None
+    messages: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
@@ -67,7 +69,12 @@ class _Parts:
             z[name] = np.asarray(preprocessor.transform(motions), dtype=np.float64)
             _check_shape(z[name], shape, entry, "z")
         result = ChunkResult(
-            responses.displacement, extras, z, dict(responses.failures), responses.collapsed
+            responses.displacement,
+            extras,
+            z,
+            dict(responses.failures),
+            responses.collapsed,
+            dict(responses.messages),
         )
         for i in result.failures:
             _blank(result, i)
@@ -137,6 +144,7 @@ def _blank(result: ChunkResult, i: int) -> None:
 def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
     results: list[ChunkResult | None] = []
     failures: dict[int, str] = {}
+    messages: dict[int, str] = {}
     for i in range(motions.n_records):
         try:
             single = parts.run(motions[i])
@@ -146,6 +154,8 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
             failures[i] = f"{type(error).__name__}: {error}"
             results.append(None)
             continue
+        if 0 in single.messages:
+            messages[i] = single.messages[0]
         if single.failures:
             failures[i] = single.failures[0]
             results.append(None)
@@ -162,7 +172,7 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
         shape = (motions.n_records, motions.n_steps, parts.structure.n_outputs)
         nan = np.full(shape, np.nan)
         z = {name: nan.copy() for name in parts.preprocessors}
-        return ChunkResult(nan, {}, z, failures, collapsed)
+        return ChunkResult(nan, {}, z, failures, collapsed, messages)
 
     def stack(pick) -> np.ndarray:
         rows = [pick(r) if r is not None else np.full_like(pick(template), np.nan) for r in results]
@@ -174,4 +184,5 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
         {name: stack(lambda r, n=name: r.z[n]) for name in template.z},
         failures,
         collapsed,
+        messages,
     )

@@ -174,7 +174,7 @@ def compute(
     u, acceleration = _histories(responses, motions)
     stories.check_outputs(u.shape[2])
     window = _residual_window(motions, free_vibration_s)
-    drift = _drifts(u, stories)
+    drift = stories.drifts(u)
     heights = np.asarray(stories.heights_m)
     pid = np.max(np.abs(drift), axis=1) / heights
     rid = np.abs(np.mean(drift[:, window], axis=1)) / heights
@@ -339,15 +339,6 @@ def _histories(
     if u.shape[1] < 3:
         raise InputError(f"EDPs need at least 3 time steps, got {u.shape[1]}")
     return u, acceleration
-
-
-def _drifts(u: np.ndarray, stories: Stories) -> np.ndarray:
-    """``[n, T, n_stories]`` story drifts in m."""
-    top = u[:, :, list(stories.upper)]
-    bottom = np.stack(
-        [np.zeros(u.shape[:2]) if i is None else u[:, :, i] for i in stories.lower], axis=2
-    )
-    return top - bottom
 
 
 def _residual_window(motions: GroundMotions, free_vibration_s: float) -> slice:

@@ -187,6 +187,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         f"- structure: `{config.structure.name}`, ground motion: `{config.ground_motion.name}`",
         f"- records: {sizes['train']} train / {sizes['val']} validation / {sizes['test']} test,"
         f" dt = {evaluation.data.dt} s, {evaluation.data.u.shape[1]} steps",
+        *_left_out_line(evaluation.data.left_out()),
         f"- operators: {describe_operators(config)}, "
         f"{config.training.epochs} epochs, batch {config.training.batch_size}, "
         f"Adam lr {config.training.learning_rate}, x{config.training.decay_factor} every "
@@ -334,3 +335,17 @@ def _edp_table(models: dict[str, dict], key: str, names: list[str]) -> list[str]
         cells = [f"{m:.3f} ({p:.3f})" for m, p in zip(errors["median"], errors["p90"], strict=True)]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
+
+
+def _left_out_line(left_out: dict[str, dict[str, int]]) -> list[str]:
+    """The report's line on the records left out (collapsed, failed), if there are any."""
+    parts = []
+    for name, what in (("collapsed", "collapsed the structure"), ("failed", "failed")):
+        counts = left_out[name]
+        if sum(counts.values()):
+            labels = {"train": "train", "val": "validation", "test": "test"}
+            split = " / ".join(f"{counts[s]} {labels[s]}" for s in SPLITS)
+            parts.append(f"{sum(counts.values())} {what} ({split})")
+    if not parts:
+        return []
+    return [f"- left out of training and of the error tables: {'; '.join(parts)}"]

@@ -174,6 +174,10 @@ class Responses:
             up to the collapse and NaN after it; datasets keep the flag, training and error
             tables leave the record out and fragility counts it. ``None`` (the default)
             means no record collapsed.
+        messages: record index -> what the simulator printed while analysing that record
+            (its warnings), for the records it printed anything for; data generation
+            shows each distinct message once with its count and keeps them in full in a
+            log.
     """
 
     displacement: np.ndarray
@@ -181,6 +185,7 @@ class Responses:
     extras: Mapping[str, np.ndarray] = field(default_factory=dict)
     failures: Mapping[int, str] = field(default_factory=dict)
     collapsed: np.ndarray | None = None
+    messages: Mapping[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         u = np.asarray(self.displacement, dtype=np.float64)
@@ -196,6 +201,11 @@ class Responses:
         if outside:
             raise InputError(f"failures name records {outside} outside 0..{u.shape[0] - 1}")
         object.__setattr__(self, "failures", failures)
+        messages = {int(i): str(text) for i, text in dict(self.messages).items()}
+        outside = [i for i in messages if not 0 <= i < u.shape[0]]
+        if outside:
+            raise InputError(f"messages name records {outside} outside 0..{u.shape[0] - 1}")
+        object.__setattr__(self, "messages", messages)
         if self.collapsed is None:
             collapsed = np.zeros(u.shape[0], dtype=bool)
         else:

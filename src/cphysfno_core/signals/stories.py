@@ -8,6 +8,8 @@ import operator
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from .errors import InputError
 
 
@@ -87,6 +89,23 @@ class Stories:
     def names(self) -> tuple[str, ...]:
         """``story-1`` ... ``story-n``, in the order of the stories."""
         return tuple(f"story-{s + 1}" for s in range(self.n_stories))
+
+    def drifts(self, u: np.ndarray) -> np.ndarray:
+        """``[n, T, n_stories]`` story drifts in m of displacements ``u [n, T, n_outputs]``
+        (m, relative to the ground)."""
+        u = np.asarray(u, dtype=np.float64)
+        top = u[:, :, list(self.upper)]
+        bottom = np.stack(
+            [np.zeros(u.shape[:2]) if i is None else u[:, :, i] for i in self.lower], axis=2
+        )
+        return top - bottom
+
+    def first_past(self, u: np.ndarray, drift_ratio: float) -> np.ndarray:
+        """``[n]`` the first sample at which a story's drift ratio exceeds ``drift_ratio``
+        in each record of ``u [n, T, n_outputs]`` (m), or -1 where none does."""
+        ratio = np.abs(self.drifts(u)) / np.asarray(self.heights_m)
+        past = np.any(ratio > drift_ratio, axis=2)
+        return np.where(past.any(axis=1), np.argmax(past, axis=1), -1)
 
     def check_outputs(self, n_outputs: int) -> None:
         """Raise :class:`InputError` unless every index names one of ``n_outputs`` outputs."""

@@ -3,7 +3,10 @@
 OpenSees keeps global state, leaks memory across ``ops.wipe()`` and can crash the process
 on a bad model state, so every record is analysed in a worker process: each worker starts
 with no OpenSees model, is retired after a number of records, and is replaced when it
-dies; a record whose worker dies is reported as failed and the others go on.
+dies; a record whose worker dies is reported as failed and the others go on. A record
+whose analysis does not converge collapsed the structure: it comes back with its history
+up to the step that failed. What OpenSees prints while a record is analysed comes back
+with it instead of reaching the terminal.
 
 Workers are forked from a fork server (``multiprocessing`` start method ``forkserver``,
 where the platform has it, ``spawn`` elsewhere) that has imported this module and so the
@@ -31,12 +34,35 @@ import numpy as np
 
 from cphysfno_core import CphysfnoError, InputError, PluginError, check_main_guard
 
+from .messages import recording
 from .transient import AnalysisFailed
 
 logger = logging.getLogger(__name__)
 
 Analyse = Callable[[np.ndarray, float], np.ndarray]
 T = TypeVar("T")
+
+
+@dataclass(frozen=True)
+class RecordRuns:
+    """What :func:`run_records` found for every record.
+
+    Attributes:
+        displacement: ``[n, T, n_outputs]`` float64: each record's response; NaN rows for
+            a failed record and after the step at which a collapsed one stopped.
+        failures: record index -> why it failed (its worker died).
+        collapsed: ``[n]`` bool, the records whose analysis did not converge.
+        collapse_causes: record index -> what did not converge, for the collapsed ones
+            (``"did not converge at t = 12.34 s after ..."``).
+        messages: record index -> what OpenSees printed while analysing it, for the
+            records it printed anything for.
+    """
+
+    displacement: np.ndarray
+    failures: dict[int, str]
+    collapsed: np.ndarray
+    collapse_causes: dict[int, str]
+    messages: dict[int, str]
 
 
 def run_records(
@@ -48,14 +74,15 @@ def run_records(
     workers: int = 1,
     records_per_worker: int = 20,
     description: str = "",
-) -> tuple[np.ndarray, dict[int, str]]:
+) -> RecordRuns:
     """Run ``analyse(a_g, dt)`` for every record, each in a spawned worker process.
 
     Args:
         analyse: ``analyse(a_g [T] m/s^2, dt s) -> [T, n_outputs]`` (m), picklable (a
             module-level function or a ``functools.partial`` of one). It raises
             :class:`~cphysfno_opensees.transient.AnalysisFailed` when the analysis does not
-            converge; that record fails and the others go on.
+            converge: that record collapsed (its rows before the failure are the
+            exception's ``history``, where it has one), and the others go on.
         acceleration: ``[n, T]`` ground accelerations in m/s^2.
         dt: time step of the records in s.
         n_outputs: outputs per sample.
@@ -66,9 +93,8 @@ def run_records(
             ``cphysfno_opensees.runner``, level INFO).
 
     Returns:
-        ``(u, failures)``: ``u [n, T, n_outputs]`` float64 with NaN rows for the failed
-        records, and ``failures`` mapping each failed record's index to its cause (``"did
-        not converge at t = 12.34 s after ..."``, or the worker's death).
+        :class:`RecordRuns`: the responses, the failed records (a worker died), the
+        collapsed ones and what OpenSees printed for each record.
 
     Raises:
         InputError: ``acceleration`` is not ``[n, T]``, or ``workers`` or
@@ -93,6 +119,9 @@ def run_records(
     n, n_steps = acceleration.shape
     u = np.full((n, n_steps, n_outputs), np.nan)
     failures: dict[int, str] = {}
+    collapsed = np.zeros(n, dtype=bool)
+    causes: dict[int, str] = {}
+    messages: dict[int, str] = {}
     todo = list(range(n - 1, -1, -1))
     pool: list[_Worker] = []
     context = _context()
@@ -110,17 +139,27 @@ def run_records(
             for worker in pool:
                 if todo and worker.busy is None:
                     worker.send(todo.pop(), acceleration)
-            for index, outcome in _collect(pool):
+            for index, outcome, said in _collect(pool):
+                if said:
+                    messages[index] = said
                 if isinstance(outcome, np.ndarray):
                     _check_shape(outcome, (n_steps, n_outputs))
                     u[index] = outcome
+                elif isinstance(outcome, _Collapse):
+                    collapsed[index], causes[index] = True, outcome.cause
+                    if outcome.history is not None:
+                        rows = outcome.history[:n_steps]
+                        _check_shape(rows, (len(rows), n_outputs))
+                        u[index, : len(rows)] = rows
                 else:
                     failures[index] = outcome
-                progress.tick(index in failures)
+                progress.tick(index in failures, collapsed[index])
     finally:
         for worker in pool:
             worker.stop()
-    return u, dict(sorted(failures.items()))
+    return RecordRuns(
+        u, dict(sorted(failures.items())), collapsed, dict(sorted(causes.items())), messages
+    )
 
 
 def call_in_worker(function: Callable[..., T], *args: Any, description: str = "") -> T:
@@ -246,8 +285,9 @@ class _Worker:
         self.connection.close()
 
 
-def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | str]]:
-    """Wait until at least one busy worker answers or dies; each such record's outcome.
+def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | _Collapse | str, str]]:
+    """Wait until at least one busy worker answers or dies; each such record's outcome
+    and what OpenSees printed while it was analysed.
 
     Each such worker becomes idle (a dead one is then replaced by the caller).
     """
@@ -259,10 +299,10 @@ def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | str]]:
     for worker in busy:
         if worker.connection not in ready and worker.process.sentinel not in ready:
             continue
-        index, outcome = worker.busy, None
+        index, outcome, said = worker.busy, None, ""
         if worker.connection.poll():
             try:
-                index, outcome = worker.connection.recv()
+                index, outcome, said = worker.connection.recv()
             except (EOFError, OSError):
                 pass
         if outcome is None:
@@ -272,7 +312,7 @@ def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | str]]:
         if isinstance(outcome, _Bug):
             raise PluginError(f"analysis of record {index} raised:\n{outcome.text}")
         worker.busy = None
-        outcomes.append((index, outcome))
+        outcomes.append((index, outcome, said))
     return outcomes
 
 
@@ -298,6 +338,14 @@ def _death_cause(process: multiprocessing.process.BaseProcess) -> str:
 def _check_shape(values: np.ndarray, shape: tuple[int, int]) -> None:
     if values.shape != shape:
         raise PluginError(f"an analysis returned shape {values.shape}, expected {shape}")
+
+
+@dataclass(frozen=True)
+class _Collapse:
+    """An analysis that did not converge: its cause and the rows it recorded before."""
+
+    cause: str
+    history: np.ndarray | None
 
 
 @dataclass(frozen=True)
@@ -332,13 +380,19 @@ def _serve(connection: Connection, analyse: bytes, dt: float, path: list[str]) -
         if task is None:
             return
         index, record = task
-        try:
-            outcome: np.ndarray | str | _Bug = np.asarray(analyse(record, dt), dtype=np.float64)
-        except AnalysisFailed as failure:
-            outcome = str(failure)
-        except Exception:  # noqa: BLE001 - sent to the parent, which raises it
-            outcome = _Bug(traceback.format_exc())
-        connection.send((index, outcome))
+        with recording() as said:
+            try:
+                outcome: np.ndarray | _Collapse | _Bug = np.asarray(
+                    analyse(record, dt), dtype=np.float64
+                )
+            except AnalysisFailed as failure:
+                history = failure.history
+                outcome = _Collapse(
+                    str(failure), None if history is None else np.asarray(history, np.float64)
+                )
+            except Exception:  # noqa: BLE001 - sent to the parent, which raises it
+                outcome = _Bug(traceback.format_exc())
+        connection.send((index, outcome, said.getvalue()))
 
 
 class _Progress:
@@ -346,20 +400,22 @@ class _Progress:
 
     def __init__(self, total: int, description: str) -> None:
         self.total, self.description = total, description or "OpenSees analyses"
-        self.done = self.failed = 0
+        self.done = self.failed = self.collapsed = 0
         self.started = self.logged = time.perf_counter()
 
-    def tick(self, failed: bool) -> None:
+    def tick(self, failed: bool, collapsed: bool) -> None:
         self.done += 1
         self.failed += failed
+        self.collapsed += collapsed
         now = time.perf_counter()
         if now - self.logged >= 30.0 or self.done == self.total:
             self.logged = now
             logger.info(
-                "%s: %d/%d records (%d failed), %.2f s per record",
+                "%s: %d/%d records (%d collapsed, %d failed), %.2f s per record",
                 self.description,
                 self.done,
                 self.total,
+                self.collapsed,
                 self.failed,
                 (now - self.started) / self.done,
             )

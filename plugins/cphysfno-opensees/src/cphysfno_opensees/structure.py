@@ -1,8 +1,10 @@
-"""What every OpenSees structure shares: records analysed in worker processes, coarse-grid
+"""What every OpenSees structure shares: records analysed in worker processes, collapse
+marked where an analysis stops converging or a story drifts past a limit, coarse-grid
 simulation by resampling the motion, and elastic periods from the linear representation."""
 
 from __future__ import annotations
 
+import logging
 from abc import abstractmethod
 from collections.abc import Callable
 
@@ -22,6 +24,8 @@ from cphysfno_core import (
 
 from .runner import run_records
 
+logger = logging.getLogger(__name__)
+
 
 class OpenSeesParams(Params):
     """Parameters every OpenSees structure has: how its records are run."""
@@ -29,6 +33,12 @@ class OpenSeesParams(Params):
     workers: int = Field(1, ge=1, description="worker processes analysing records in parallel")
     records_per_worker: int = Field(
         20, ge=1, description="records a worker process analyses before a fresh one replaces it"
+    )
+    collapse_drift: float | None = Field(
+        0.10,
+        gt=0.0,
+        description="story drift ratio past which a record collapsed the structure (for a "
+        "structure with stories); None: only an analysis that stops converging is a collapse",
     )
 
 
@@ -40,8 +50,11 @@ class OpenSeesStructure(Structure):
 
     - :meth:`simulate`: every record analysed in worker processes
       (:func:`~cphysfno_opensees.runner.run_records`, ``workers`` at a time, each worker
-      replaced after ``records_per_worker`` records); a record that does not converge,
-      or whose worker dies, comes back as NaN rows named in ``Responses.failures``;
+      replaced after ``records_per_worker`` records); a record whose analysis stops
+      converging, or (structures with stories) in which a story drifts past
+      ``collapse_drift``, collapsed the structure (``Responses.collapsed``), and one whose
+      worker dies comes back as NaN rows named in ``Responses.failures``; what OpenSees
+      printed comes back in ``Responses.messages``;
     - the ``coarse_simulation`` capability: ``simulate(motions, dt=coarse)`` resamples the
       motion onto the coarse grid (linear between samples) and analyses it there, which
       the subclass's implicit, unconditionally stable integrator must allow;
@@ -69,10 +82,15 @@ class OpenSeesStructure(Structure):
                 motion's resamples the motion onto that grid and analyses it there.
 
         Returns:
-            ``[n, T', n_outputs]`` displacements in m on the analysed grid, NaN for the
-            records named in ``failures`` (each cause followed by the record's metadata,
-            where the motions have some: ``did not converge at t = 7.31 s after ...
-            (rsn = 953, scale = 1.4)``).
+            ``[n, T', n_outputs]`` displacements in m on the analysed grid. A collapsed
+            record (``collapsed``: its analysis stopped converging, or a story's drift
+            ratio passed ``collapse_drift``) holds its history up to the collapse (the
+            last converged step, or the first sample past the limit) and NaN after it; its
+            cause is logged (logger ``cphysfno_opensees.structure``, INFO) with the
+            record's metadata, where the motions have some: ``did not converge at t =
+            7.31 s after ... (rsn = 953, scale = 1.4)``. A record whose worker died is NaN
+            throughout and named in ``failures``. ``messages`` holds what OpenSees printed
+            for each record.
 
         Raises:
             InputError: ``motions`` is not a GroundMotions, or ``dt`` is not a time step at
@@ -93,7 +111,8 @@ class OpenSeesStructure(Structure):
             motions = motions.resample(dt)
         moving = np.flatnonzero(np.any(motions.acceleration != 0.0, axis=1))
         u = np.zeros((motions.n_records, motions.n_steps, self.n_outputs))
-        u[moving], failures = run_records(
+        collapsed = np.zeros(motions.n_records, dtype=bool)
+        runs = run_records(
             self.analysis(),
             motions.acceleration[moving],
             motions.dt,
@@ -102,11 +121,42 @@ class OpenSeesStructure(Structure):
             records_per_worker=self.params.records_per_worker,
             description=f"{self.name} at dt = {motions.dt:g} s",
         )
+        u[moving], collapsed[moving] = runs.displacement, runs.collapsed
+        causes = {int(moving[i]): cause for i, cause in runs.collapse_causes.items()}
+        causes.update(self._drift_collapses(u, collapsed, motions.dt))
+        for index, cause in sorted(causes.items()):
+            described = _with_metadata(cause, motions.metadata, index)
+            logger.info("%s: record %d collapsed the structure: %s", self.name, index, described)
         failures = {
             int(moving[i]): _with_metadata(cause, motions.metadata, int(moving[i]))
-            for i, cause in failures.items()
+            for i, cause in runs.failures.items()
         }
-        return Responses(u, motions.dt, failures=failures)
+        messages = {int(moving[i]): text for i, text in runs.messages.items()}
+        return Responses(u, motions.dt, failures=failures, collapsed=collapsed, messages=messages)
+
+    def _drift_collapses(self, u: np.ndarray, collapsed: np.ndarray, dt: float) -> dict[int, str]:
+        """Mark the records in which a story drifts past ``collapse_drift`` as collapsed
+        (in place: NaN after the first sample past it); their causes, by record. A model
+        whose stories cannot be told (one without a vertical coordinate and without
+        ``story_heights``) collapses only by non-convergence, and a warning says so."""
+        limit = self.params.collapse_drift
+        if limit is None or "stories" not in self.capabilities:
+            return {}
+        try:
+            stories = self.stories()
+        except ConfigError as error:
+            logger.warning("%s: no collapse by drift (%s)", self.name, error)
+            return {}
+        first = stories.first_past(np.nan_to_num(u, nan=0.0), limit)
+        causes = {}
+        for index in np.flatnonzero((first >= 0) & ~collapsed):
+            step = int(first[index])
+            u[index, step + 1 :] = np.nan
+            collapsed[index] = True
+            causes[int(index)] = (
+                f"a story drift ratio passed collapse_drift = {limit:g} at t = {step * dt:.2f} s"
+            )
+        return causes
 
     def periods(self, n: int | None = None) -> np.ndarray:
         """First ``n`` (default all) elastic periods in s, longest first, from the

@@ -39,20 +39,24 @@ class Abandoned(Exception):
 
 
 class AnalysisFailed(RuntimeError):
-    """An OpenSees transient analysis that did not converge.
+    """An OpenSees transient analysis that did not converge: the structure collapsed (or
+    its model could not follow it further).
 
     Attributes:
         time_s: analysis time in s at the start of the step that failed.
         tried: what was tried on that step, in words.
+        history: ``[k, n_out]`` the rows recorded before the step that failed, in the
+            units of the analysis's outputs, where the analysis knows them; else None.
     """
 
-    def __init__(self, time_s: float, tried: str) -> None:
+    def __init__(self, time_s: float, tried: str, history: np.ndarray | None = None) -> None:
         self.time_s = float(time_s)
         self.tried = tried
+        self.history = history
         super().__init__(f"did not converge at t = {self.time_s:.2f} s after {tried}")
 
     def __reduce__(self):
-        return type(self), (self.time_s, self.tried)
+        return type(self), (self.time_s, self.tried, self.history)
 
 
 def integrate(
@@ -99,7 +103,7 @@ def integrate(
 
     Raises:
         AnalysisFailed: a step that nothing on the ladder could complete, with the time at
-            its start and what was tried.
+            its start, what was tried and the rows recorded before it (``history``).
         Abandoned: ``abandon`` returned True.
     """
     algorithm = tuple(algorithm)
@@ -110,7 +114,11 @@ def integrate(
     while k < n_steps:
         k += 1
         if ops.analyze(1, dt) != 0:
-            _recover(ops, dt, algorithm)
+            try:
+                _recover(ops, dt, algorithm)
+            except AnalysisFailed as failure:
+                failure.history = out[:k].copy()
+                raise
         out[k] = read()
         if k % check_every:
             continue

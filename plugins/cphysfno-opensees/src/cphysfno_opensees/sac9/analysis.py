@@ -18,7 +18,7 @@ from threadpoolctl import threadpool_limits
 from cphysfno_core import Rayleigh
 
 from ..loader import import_opensees
-from ..transient import Abandoned, integrate
+from ..transient import Abandoned, AnalysisFailed, integrate
 from .elastic import elastic_frame, set_state
 from .interior import InteriorSections
 from .model import FrameConfig, build_frame
@@ -208,6 +208,10 @@ def transient_response(
             leap=leap,
             check_every=TRY_EVERY,
         )
+    except AnalysisFailed as failure:
+        if start is not None and failure.history is not None:
+            failure.history = np.concatenate([start.displacement, failure.history[1:]])
+        raise
     finally:
         if collecting:
             gc.enable()

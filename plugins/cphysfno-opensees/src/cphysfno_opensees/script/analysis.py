@@ -12,8 +12,8 @@ import numpy as np
 from cphysfno_core import Rayleigh
 
 from ..loader import import_opensees
-from ..transient import integrate
-from .model import ModelSpec, build_model, captured, start_transient
+from ..transient import AnalysisFailed, integrate
+from .model import ModelSpec, build_model, start_transient
 
 ALGORITHM = ("Newton",)
 """The solution algorithm of every step (the fallbacks of
@@ -40,21 +40,24 @@ def analyse(spec: ModelSpec, damping: Rayleigh, acceleration: np.ndarray, dt: fl
         for translations, rad for rotations.
 
     Raises:
-        AnalysisFailed: a step that nothing could complete.
+        AnalysisFailed: a step that nothing could complete (a collapse), with the response
+            before it (m, rad) as its ``history``.
     """
     ops = import_opensees()
-    with captured():
-        built = build_model(ops, spec)
-        ground = np.asarray(acceleration, dtype=np.float64) / spec.metres_per_unit
-        start_transient(ops, spec, damping, ground, dt)
-        outputs = spec.outputs
-
-        def read() -> list[float]:
-            return [ops.nodeDisp(node, dof) for node, dof in outputs]
-
-        try:
-            u = integrate(ops, ground.size - 1, dt, read, algorithm=ALGORITHM)
-        finally:
-            ops.wipe()
+    built = build_model(ops, spec)
+    ground = np.asarray(acceleration, dtype=np.float64) / spec.metres_per_unit
+    start_transient(ops, spec, damping, ground, dt)
+    outputs = spec.outputs
     scale = np.where(built.translations, spec.metres_per_unit, 1.0)
+
+    def read() -> list[float]:
+        return [ops.nodeDisp(node, dof) for node, dof in outputs]
+
+    try:
+        u = integrate(ops, ground.size - 1, dt, read, algorithm=ALGORITHM)
+    except AnalysisFailed as failure:
+        failure.history = (failure.history - built.at_rest) * scale
+        raise
+    finally:
+        ops.wipe()
     return (u - built.at_rest) * scale

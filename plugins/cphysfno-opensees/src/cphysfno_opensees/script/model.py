@@ -3,9 +3,6 @@ and set up for a transient analysis under a ground motion."""
 
 from __future__ import annotations
 
-import contextlib
-import io
-from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -14,6 +11,7 @@ import numpy as np
 
 from cphysfno_core import Rayleigh
 
+from ..messages import captured, said
 from .source import BUILD, ScriptError, call, load
 
 LENGTH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048}
@@ -73,22 +71,6 @@ class Built:
     ndm: int
     at_rest: np.ndarray
     translations: np.ndarray
-
-
-@contextlib.contextmanager
-def captured() -> Iterator[io.StringIO]:
-    """OpenSees' messages (and anything else printed) kept in a buffer instead of shown."""
-    buffer = io.StringIO()
-    with contextlib.redirect_stderr(buffer), contextlib.redirect_stdout(buffer):
-        yield buffer
-
-
-def said(buffer: io.StringIO, lines: int = 8) -> str:
-    """The last ``lines`` non-empty lines OpenSees printed, indented, or nothing."""
-    text = [line for line in buffer.getvalue().splitlines() if line.strip()]
-    if not text:
-        return ""
-    return "\nOpenSees said:\n" + "\n".join(f"  {line.strip()}" for line in text[-lines:])
 
 
 def build_model(

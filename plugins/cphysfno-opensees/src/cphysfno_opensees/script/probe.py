@@ -15,7 +15,8 @@ from cphysfno_core import Rayleigh
 
 from ..loader import import_opensees
 from ..matrices import Equations, ReductionError, assemble, eigenvalues, printed_matrix, reduce
-from .model import ModelSpec, apply_gravity, build_model, captured
+from ..messages import captured
+from .model import ModelSpec, apply_gravity, build_model
 from .source import ScriptError
 
 PENALTY_FACTOR = 1e8
