@@ -1,10 +1,14 @@
 """Lognormal fragility fitting against known curves and a brute-force likelihood."""
 
+import warnings
+
 import numpy as np
 import pytest
 import scipy.stats
 
+import cphysfno_core as cp
 from cphysfno_core import InputError
+from cphysfno_core.app.fragility_study import draw
 from cphysfno_core.reporting.fragility import (
     Fragility,
     fit_lognormal,
@@ -79,3 +83,29 @@ def test_collapse_adds_by_total_probability():
 def test_a_fit_without_both_outcomes_says_what_to_change(exceeded, message):
     with pytest.raises(InputError, match=f"pid > 0.01: {message}"):
         fit_lognormal(np.linspace(0.1, 1.0, 5), exceeded, what="pid > 0.01")
+
+
+class _ThreeRecords:
+    """A finite source: at most three records a draw, each scaled by a new random factor,
+    with a warning when asked for more (as the recorded source does)."""
+
+    def sample(self, n, rng):
+        k = min(n, 3)
+        if n > k:
+            warnings.warn("only three", cp.CphysfnoWarning, stacklevel=2)
+        factors = rng.uniform(1.0, 2.0, size=k)
+        return cp.GroundMotions(
+            factors[:, None] * np.ones((k, 5)), 0.01, [{"f": f} for f in factors]
+        )
+
+
+def test_a_finite_source_is_drawn_in_rounds_until_there_are_enough():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        motions, largest = draw(_ThreeRecords(), 8, np.random.default_rng(0))
+    assert motions.n_records == 8 and largest == 3
+    factors = [meta["f"] for meta in motions.metadata]
+    np.testing.assert_allclose(motions.acceleration[:, 0], factors)
+    assert len(set(factors)) == 8
+    single, largest = draw(_ThreeRecords(), 2, np.random.default_rng(0))
+    assert single.n_records == 2 and largest == 2

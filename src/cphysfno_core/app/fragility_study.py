@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -44,7 +45,7 @@ from ..reporting.fragility import (
 )
 from ..reporting.fragility_figures import plot_demand_cloud, plot_fragility
 from ..signals import GroundMotions
-from ..signals.errors import ConfigError, InputError
+from ..signals.errors import ConfigError, CphysfnoWarning, InputError
 from ..signals.intensity import (
     peak_ground_acceleration,
     peak_ground_velocity,
@@ -267,7 +268,7 @@ def run_fragility(
     predicted = edp.compute(mean, structure, motions[np.flatnonzero(standing)])
 
     started = time.perf_counter()
-    large_im, large_demands = _large_analysis(
+    large_im, large_demands, distinct = _large_analysis(
         model, structure, config, records, motions_file, measure, t1, seed, progress
     )
     large_seconds = time.perf_counter() - started
@@ -284,6 +285,7 @@ def run_fragility(
         "collapsed_test_records": int(collapsed.sum()),
         "large_records": int(large_im.size),
         "large_seconds": round(large_seconds, 1),
+        "large_source_records": distinct,
         "collapse": None
         if collapse is None
         else {"median": collapse.median, "beta": collapse.beta},
@@ -369,9 +371,10 @@ def _large_analysis(
     t1: float,
     seed: int,
     progress: bool,
-) -> tuple[np.ndarray, edp.EDPs]:
+) -> tuple[np.ndarray, edp.EDPs, int | None]:
     """Intensities ``[N]`` and EDPs of the surrogate's predictions for the large set,
-    predicted :data:`CHUNK` records at a time."""
+    predicted :data:`CHUNK` records at a time, and the most records one draw of the source
+    gave where that is fewer than asked (a finite set, see :func:`draw`), else None."""
     if motions_file is not None:
         source_motions = read_motions(motions_file)
         n = source_motions.n_records
@@ -384,12 +387,15 @@ def _large_analysis(
         n = records
     intensities, parts = [], []
     started = time.perf_counter()
+    distinct = None
     for start in range(0, n, CHUNK):
         stop = min(start + CHUNK, n)
         if motions_file is not None:
             chunk = source_motions[start:stop]
         else:
-            chunk = source.sample(stop - start, rng)
+            chunk, largest = draw(source, stop - start, rng)
+            if largest < stop - start:
+                distinct = largest if distinct is None else max(distinct, largest)
         mean, _ = model.predict(chunk)
         parts.append(edp.compute(mean, structure, chunk))
         intensities.append(intensity(measure, chunk, t1))
@@ -402,4 +408,34 @@ def _large_analysis(
         np.concatenate([p.pfa for p in parts]),
         parts[0].stories,
     )
-    return np.concatenate(intensities), demands
+    if distinct is not None and progress:
+        show_progress(
+            f"  fragility: the ground-motion source gives at most {distinct} records a draw; "
+            "the large set was drawn in rounds (a scaled source scales each round anew)"
+        )
+    return np.concatenate(intensities), demands, distinct
+
+
+def draw(source: Any, n: int, rng: np.random.Generator) -> tuple[GroundMotions, int]:
+    """``n`` records from ``source``, and the most one of its draws gave.
+
+    A finite source (a set of recorded motions) gives at most the records it has in one
+    draw; it is drawn again until there are ``n``: a source that scales its records (a
+    ``scale_range`` or intensity scenarios) draws new factors every time, so the rounds
+    are the same shapes at new intensities; an unscaled one repeats its records.
+    """
+    parts, got, largest = [], 0, 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CphysfnoWarning)
+        while got < n:
+            part = source.sample(n - got, rng)
+            if part.n_records == 0:
+                raise InputError(f"the ground-motion source gave no records for {n} asked")
+            parts.append(part)
+            got += part.n_records
+            largest = max(largest, part.n_records)
+    if len(parts) == 1:
+        return parts[0], largest
+    metadata = [meta for part in parts for meta in (part.metadata or [{}] * part.n_records)]
+    acceleration = np.concatenate([part.acceleration for part in parts])
+    return GroundMotions(acceleration, parts[0].dt, metadata), largest
