@@ -262,7 +262,7 @@ TINY = {
 }
 
 
-def test_the_example_runs_end_to_end(tmp_path):
+def _tiny_config(folder: Path) -> Path:
     """examples/opensees-model-imk.toml at tiny size, its script's path made absolute."""
     text = CONFIG.read_text()
     for key, value in TINY.items():
@@ -270,8 +270,32 @@ def test_the_example_runs_end_to_end(tmp_path):
         assert count == 1, key
     text, count = re.subn(r'(?m)^script = "', f'script = "{EXAMPLES}/', text)
     assert count == 1
-    config = tmp_path / "imk.toml"
+    config = folder / "imk.toml"
     config.write_text(text)
+    return config
+
+
+def test_opensees_warnings_are_shown_once_with_their_count_and_kept_in_full(tmp_path, capfd):
+    """OpenSees warns about ``Bilin`` in every worker process that builds the frame (once
+    per process), and complains at the steps Newton needs a fallback for: a generation
+    shows each distinct message once, with how many times and in how many records it was
+    printed, and keeps every record's messages in dataset-messages.log."""
+    out = tmp_path / "out"
+    assert main(["generate", str(_tiny_config(tmp_path)), "--out", str(out)]) == 0
+    shown = capfd.readouterr().err
+    log = (out / "dataset-messages.log").read_text()
+    bilin = 'WARNING: DO NOT USE THE "Bilin" MATERIAL'
+    blocks = re.split(r"(?m)^record \d+:\n", log)[1:]
+    printed, records = log.count(bilin), sum(bilin in block for block in blocks)
+    assert printed >= 1 and records >= 1
+    summary = [line for line in shown.splitlines() if bilin in line]
+    assert len(summary) == 1
+    assert re.search(rf" {printed} times in +{records} records: ", summary[0])
+
+
+def test_the_example_runs_end_to_end(tmp_path):
+    """examples/opensees-model-imk.toml at tiny size, its script's path made absolute."""
+    config = _tiny_config(tmp_path)
     out = tmp_path / "out"
     assert main(["-q", "run", str(config), "--out", str(out)]) == 0
     metrics = json.loads((out / "metrics.json").read_text())
@@ -287,3 +311,29 @@ def test_the_example_runs_end_to_end(tmp_path):
     document = json.loads((out / "structure" / "opensees-model.json").read_text())
     assert document["constraints"][0] == "Penalty"
     assert document["periods_s"][0] == pytest.approx(0.8337, rel=1e-3)
+
+
+def test_a_record_that_collapses_the_frame_is_marked_and_the_others_are_unchanged(frame):
+    """Five times a record that yields the frame drives it past a story drift ratio of
+    0.10 (the default collapse_drift) as the leaning column's P-Delta takes over, and its
+    analysis later stops converging (measured: drift past 4 at t = 7.4 s): that record
+    alone is marked collapsed, its history ends at the first sample past 0.10, and the
+    records beside it in the batch are what they are alone."""
+    motions = smooth_random_motions(2, 801, 0.01, 6.0, 3, window=5)
+    batch = GroundMotions(
+        np.stack([motions.acceleration[0], 5.0 * motions.acceleration[0], motions.acceleration[1]]),
+        motions.dt,
+    )
+    responses = frame.simulate(batch)
+    assert responses.collapsed.tolist() == [False, True, False] and not responses.failures
+    u = responses.displacement
+    for i in (0, 2):
+        alone = frame.simulate(batch[i : i + 1]).displacement[0]
+        np.testing.assert_array_equal(u[i], alone)
+    stories = frame.stories()
+    ratio = np.abs(stories.drifts(u[1:2])) / np.asarray(stories.heights_m)
+    last = int(np.argmax(np.isnan(u[1, :, 0]))) - 1
+    assert 0 < last < batch.n_steps - 1 and np.isnan(u[1, last + 1 :]).all()
+    assert ratio[0, last].max() > 0.10 >= ratio[0, :last].max()
+    standing = np.abs(stories.drifts(u[[0, 2]])) / np.asarray(stories.heights_m)
+    assert 0.005 < standing.max() < 0.10

@@ -108,9 +108,7 @@ def test_every_record_lands_in_its_row_and_workers_are_recycled(analyses, record
     assert max(np.sum(pids == pid) for pid in set(pids)) <= 2
 
 
-def test_records_that_do_not_converge_collapsed_with_their_history_until_then(
-    analyses, records
-):
+def test_records_that_do_not_converge_collapsed_with_their_history_until_then(analyses, records):
     runs = run_records(analyses.fails_on_negative_start, records, 0.01, 2, workers=2)
     u = runs.displacement
     assert runs.failures == {}

@@ -136,7 +136,8 @@ class OpenSeesStructure(Structure):
 
     def _drift_collapses(self, u: np.ndarray, collapsed: np.ndarray, dt: float) -> dict[int, str]:
         """Mark the records in which a story drifts past ``collapse_drift`` as collapsed
-        (in place: NaN after the first sample past it); their causes, by record. A model
+        (in place: NaN after the first sample past it, also in a record whose analysis
+        stopped converging later); the causes of those not marked before, by record. A model
         whose stories cannot be told (one without a vertical coordinate and without
         ``story_heights``) collapses only by non-convergence, and a warning says so."""
         limit = self.params.collapse_drift
@@ -149,13 +150,15 @@ class OpenSeesStructure(Structure):
             return {}
         first = stories.first_past(np.nan_to_num(u, nan=0.0), limit)
         causes = {}
-        for index in np.flatnonzero((first >= 0) & ~collapsed):
+        for index in np.flatnonzero(first >= 0):
             step = int(first[index])
             u[index, step + 1 :] = np.nan
-            collapsed[index] = True
-            causes[int(index)] = (
-                f"a story drift ratio passed collapse_drift = {limit:g} at t = {step * dt:.2f} s"
-            )
+            if not collapsed[index]:
+                collapsed[index] = True
+                causes[int(index)] = (
+                    f"a story drift ratio passed collapse_drift = {limit:g} at t = "
+                    f"{step * dt:.2f} s"
+                )
         return causes
 
     def periods(self, n: int | None = None) -> np.ndarray:
