@@ -54,10 +54,10 @@ Published facts used:
 Differences from the published script, and assumptions:
 
 - the leaning column's rotational springs are 1 kip in/rad here (``LEANING_SPRING``), not
-  1e-9: with 1e-9 beside the leaning column's 1e8 kip in/rad the stiffness is singular to
-  working precision (OpenSees' dense eigen solver returns NaN for the first mode, and
-  cphysfno refuses to condense the massless DOFs below 1e-5); from 1e-4 to 1 kip in/rad
-  the first two periods agree to 1e-7, so the spring still adds nothing measurable;
+  1e-9: with 1e-9 beside the leaning column's 1e8 kip in/rad, OpenSees' dense eigen
+  solver, which the tests compare the periods against, returns NaN for the first mode
+  (cphysfno's own condensation gives the same periods with 1e-9 as with 1 kip in/rad, to
+  1e-7); from 1e-9 to 1 kip in/rad the spring adds nothing measurable;
 - the published joints also carry masses of 1e-9 in their vertical and rotational DOFs
   (a numerical device for OpenSees' default eigen solver); here only the horizontal DOFs
   carry mass;

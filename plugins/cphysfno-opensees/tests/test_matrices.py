@@ -49,3 +49,18 @@ def test_a_massless_mechanism_is_refused():
     stiffness = np.array([[k, 0.0, 0.0], [0.0, k, -k], [0.0, -k, k]])
     with pytest.raises(ReductionError, match=r"singular stiffness \(a mechanism\)"):
         reduce(_equations([1.0e3, 0.0, 0.0], stiffness, np.zeros((3, 3))))
+
+
+def test_a_massless_dof_held_by_a_very_soft_spring_is_condensed_not_refused():
+    """A mass on a spring k1 to a massless node held to the ground by 1e8, and a massless
+    hinge hanging on that node by 1e-9 alone (a leaning column's rotational springs, as
+    published in kip in/rad): the massless equations span 17 orders of magnitude but are
+    not a mechanism. By hand: the hinge follows its node, which takes k1 / (k1 + 1e8) of
+    the mass's displacement, and the mass sees the series stiffness."""
+    k1, ground, soft = 1.0e6, 1.0e8, 1.0e-9
+    stiffness = np.array([[k1, -k1, 0.0], [-k1, k1 + ground + soft, -soft], [0.0, -soft, soft]])
+    reduced = reduce(_equations([1.0e3, 0.0, 0.0], stiffness, np.zeros((3, 3))))
+    assert reduced.dofs == ((1, 1),)
+    np.testing.assert_allclose(reduced.stiffness, [[k1 * ground / (k1 + ground)]], rtol=1e-9)
+    share = k1 / (k1 + ground)
+    np.testing.assert_allclose(reduced.shapes[:, 0], [1.0, share, share], rtol=1e-9)

@@ -265,11 +265,18 @@ def constraint_basis(constraint: np.ndarray, weight: np.ndarray) -> tuple[np.nda
 
 
 def _singular(matrix: np.ndarray) -> bool:
-    """Whether ``matrix`` is singular to working precision (its condition number)."""
+    """Whether the stiffness ``matrix`` is singular to working precision: a diagonal term
+    that is not positive, or a condition number of at least 1e14 once every DOF is scaled
+    to a unit diagonal (so that a DOF held only by a very soft spring, such as the 1e-9
+    kip in/rad springs of a leaning column's hinges, is soft, not a mechanism)."""
     if not matrix.size:
         return False
+    diagonal = np.diag(matrix)
+    if not np.all(diagonal > 0.0):
+        return True
+    scale = 1.0 / np.sqrt(diagonal)
     with np.errstate(all="ignore"):
-        condition = np.linalg.cond(matrix)
+        condition = np.linalg.cond(matrix * scale[:, None] * scale[None, :])
     return not bool(condition < 1e14)
 
 
