@@ -26,6 +26,7 @@ MODULES = (
     "opensees_frame",
     "shear_building",
     "bridge_accuracy",
+    "fragility",
 )
 ON_DEVICE = ("training", "prediction")
 """The benchmarks that run on ``--device``; the others are CPU work."""

@@ -216,9 +216,10 @@ def run_fragility(
     n_bootstrap: int = 200,
     seed: int = 0,
     progress: bool = True,
+    out: Path | None = None,
 ) -> dict[str, Any]:
-    """Fit the fragility curves of a trained run and write ``RUN/fragility/``
-    (``fragility.json``, ``fragility.png``, ``edp-im.png``).
+    """Fit the fragility curves of a trained run and write ``RUN/fragility/`` (or ``out``):
+    ``fragility.json``, ``fragility.png``, ``edp-im.png``.
 
     Args:
         run: a folder written by ``cphysfno run`` (``config.json``, ``metrics.json``,
@@ -233,6 +234,7 @@ def run_fragility(
         n_bootstrap: bootstrap resamples of each fit.
         seed: seeds the draw of motions and the bootstrap.
         progress: print progress lines.
+        out: the folder to write to instead of ``RUN/fragility``.
 
     Returns:
         The document written to ``fragility.json``.
@@ -318,8 +320,8 @@ def run_fragility(
         for source, fit in (("surrogate", surrogate), ("surrogate-large", large)):
             if fit["median"] is not None:
                 curves[state.name][source] = Fragility(fit["median"], fit["beta"])
-    out = run / "fragility"
-    out.mkdir(exist_ok=True)
+    out = run / "fragility" if out is None else Path(out)
+    out.mkdir(parents=True, exist_ok=True)
     (out / "fragility.json").write_text(json.dumps(document, indent=2) + "\n")
     plot_fragility(curves, im_test, INTENSITY_MEASURES[measure], out / "fragility.png")
     plot_demand_cloud(
