@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from toy_experiment import toy_experiment
 
+import cphysfno_core as cp
 from cphysfno_core import ConfigError
 from cphysfno_core.app.cli import main
 from cphysfno_core.app.study import summarise_runs
@@ -40,6 +41,9 @@ def test_runs_of_two_seeds_give_their_mean_and_spread(toy_registry, tmp_path):
     assert summary["seeds"] == [0, 1] and summary["epochs"] == 1
     assert summary["sizes"] == {"train": 6, "val": 2, "test": 3}
     assert summary["sweeps"] == {}
+    truth = cp.load_dataset(runs[0] / "dataset.h5").targets("test")
+    rms = np.sqrt([np.mean(truth[:, :, k] ** 2) for k in range(truth.shape[2])])
+    np.testing.assert_allclose(summary["response_rms"], rms, rtol=1e-12)
 
 
 def test_runs_that_do_not_match_or_are_unfinished_are_refused(toy_registry, tmp_path, capsys):

@@ -11,6 +11,7 @@ import shutil
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import torch
 
 from ..api.registry import get_registry
@@ -150,6 +151,9 @@ def evaluate(
     standard error (:func:`~cphysfno_core.metrics.coverage_standard_error` over the test
     records and the records the refiner was calibrated on).
 
+    ``response_rms`` is the root mean square of the simulated test response per output
+    (m, over records and time): how hard the records drive the structure.
+
     Where the structure declares its stories, every row also gets its EDP errors on the
     test records (``edp``: :func:`~cphysfno_core.edp.log_errors` of PID per story and PFA
     per floor), refined models the coverage of the drift bounds their intervals give
@@ -222,6 +226,7 @@ def evaluate(
         "output_names": list(data.output_names),
         "sizes": {**data.sizes, "train": calibration_records["training"]},
         "left_out": data.left_out(),
+        "response_rms": np.sqrt(np.mean(test_u**2, axis=(0, 1))).tolist(),
         "epochs": config.training.epochs,
         "precision": config.training.precision,
         "worse_than_physics": worse,

@@ -284,6 +284,7 @@ def _summary(
         "epochs": epochs,
         "sizes": documents[0]["sizes"],
         "output_names": documents[0]["output_names"],
+        "response_rms": documents[0].get("response_rms"),
         "device": trained_on(documents),
     }
 
