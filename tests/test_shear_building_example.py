@@ -76,6 +76,15 @@ def test_fragility_fits_simulation_and_surrogate_side_by_side(run, capsys):
     assert (run / "fragility" / "edp-im.png").stat().st_size > 0
 
 
+def test_fragility_writes_where_it_is_told(run, tmp_path):
+    threshold = _median_peak_drift(run)
+    other = tmp_path / "elsewhere"
+    arguments = ["fragility", str(run), "--records", "10", "--bootstrap", "5", "--out", str(other)]
+    assert main([*arguments, "--limit-states", f"pid={threshold:.6g}"]) == 0
+    document = json.loads((other / "fragility.json").read_text())
+    assert document["large_records"] == 10 and (other / "fragility.png").is_file()
+
+
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [

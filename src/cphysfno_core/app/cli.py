@@ -178,6 +178,7 @@ def _fragility(args: argparse.Namespace) -> int:
         measure=args.im,
         n_bootstrap=args.bootstrap,
         seed=args.seed,
+        out=None if args.out is None else Path(args.out),
     )
     unit = document["intensity_measure"]["unit"]
     print(
@@ -194,7 +195,7 @@ def _fragility(args: argparse.Namespace) -> int:
             for source in ("simulation", "surrogate", "surrogate-large")
         )
         print(f"  {name:<14} {cells}")
-    print(f"\nwritten: {Path(args.run) / 'fragility'}")
+    print(f"\nwritten: {args.out or Path(args.run) / 'fragility'}")
     return 0
 
 
@@ -353,6 +354,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     fragility.add_argument("--bootstrap", type=int, default=200, help="bootstrap resamples")
     fragility.add_argument("--seed", type=int, default=0, help="seeds the motions and bootstrap")
+    fragility.add_argument("--out", help="folder to write to (default RUN/fragility)")
     fragility.set_defaults(func=_fragility)
     text = (
         "the demand sample of a trained run's surrogate (its test records or --motions) in "
