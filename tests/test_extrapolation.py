@@ -52,3 +52,15 @@ def test_the_range_is_saved_with_the_model(trained_toy, tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         cp.CompositeModel.load(folder).predict(_scaled(gm[8:], 10.0))
+
+
+def test_a_wide_training_range_does_not_ask_about_g_for_a_few_strong_records():
+    """Trained on PGAs from 0.004 to 17 m/s^2 (every record is inside that range divided by
+    g too), a set whose median lies in the range is not suspected of being in g."""
+    from cphysfno_core.model.extrapolation import warn_extrapolation
+
+    peaks = np.array([0.2, 1.0, 3.0, 60.0])
+    motions = cp.GroundMotions(peaks[:, None] * np.array([[0.0, 1.0, -0.5]]), 0.01)
+    with pytest.warns(cp.ExtrapolationWarning, match="1 of 4 records") as w:
+        warn_extrapolation(motions, (0.004, 17.0), "m")
+    assert "are they in g" not in str(w[0].message)

@@ -34,6 +34,7 @@ from ..config.experiment import parse_config
 from ..data.datasets import load_dataset
 from ..data.layout import DATASET, MODELS
 from ..model.composite import CompositeModel
+from ..model.extrapolation import EXTRAPOLATION_FACTOR, outside_training
 from ..model.prediction_files import read_motions
 from ..reporting import edp
 from ..reporting.fragility import (
@@ -45,7 +46,7 @@ from ..reporting.fragility import (
 )
 from ..reporting.fragility_figures import plot_demand_cloud, plot_fragility
 from ..signals import GroundMotions
-from ..signals.errors import ConfigError, CphysfnoWarning, InputError
+from ..signals.errors import ConfigError, CphysfnoWarning, ExtrapolationWarning, InputError
 from ..signals.intensity import (
     peak_ground_acceleration,
     peak_ground_velocity,
@@ -270,7 +271,7 @@ def run_fragility(
     predicted = edp.compute(mean, structure, motions[np.flatnonzero(standing)])
 
     started = time.perf_counter()
-    large_im, large_demands, distinct = _large_analysis(
+    large_im, large_demands, distinct, extrapolated = _large_analysis(
         model, structure, config, records, motions_file, measure, t1, seed, progress
     )
     large_seconds = time.perf_counter() - started
@@ -288,6 +289,7 @@ def run_fragility(
         "large_records": int(large_im.size),
         "large_seconds": round(large_seconds, 1),
         "large_source_records": distinct,
+        "large_extrapolated": extrapolated,
         "collapse": None
         if collapse is None
         else {"median": collapse.median, "beta": collapse.beta},
@@ -373,10 +375,12 @@ def _large_analysis(
     t1: float,
     seed: int,
     progress: bool,
-) -> tuple[np.ndarray, edp.EDPs, int | None]:
+) -> tuple[np.ndarray, edp.EDPs, int | None, int]:
     """Intensities ``[N]`` and EDPs of the surrogate's predictions for the large set,
-    predicted :data:`CHUNK` records at a time, and the most records one draw of the source
-    gave where that is fewer than asked (a finite set, see :func:`draw`), else None."""
+    predicted :data:`CHUNK` records at a time; the most records one draw of the source
+    gave where that is fewer than asked (a finite set, see :func:`draw`), else None; and
+    how many records lie outside the model's training range (:func:`outside_training`),
+    said once at the end instead of warned for every chunk."""
     if motions_file is not None:
         source_motions = read_motions(motions_file)
         n = source_motions.n_records
@@ -390,6 +394,8 @@ def _large_analysis(
     intensities, parts = [], []
     started = time.perf_counter()
     distinct = None
+    extrapolated = 0
+    training_pga = getattr(model, "training_pga_", None)
     for start in range(0, n, CHUNK):
         stop = min(start + CHUNK, n)
         if motions_file is not None:
@@ -398,7 +404,10 @@ def _large_analysis(
             chunk, largest = draw(source, stop - start, rng)
             if largest < stop - start:
                 distinct = largest if distinct is None else max(distinct, largest)
-        mean, _ = model.predict(chunk)
+        extrapolated += int(outside_training(chunk, training_pga).sum())
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ExtrapolationWarning)
+            mean, _ = model.predict(chunk)
         parts.append(edp.compute(mean, structure, chunk))
         intensities.append(intensity(measure, chunk, t1))
         if progress:
@@ -410,12 +419,18 @@ def _large_analysis(
         np.concatenate([p.pfa for p in parts]),
         parts[0].stories,
     )
+    if extrapolated and progress:
+        show_progress(
+            f"  fragility: {extrapolated} of {n} records lie outside the PGA range the model "
+            f"was trained on (more than {EXTRAPOLATION_FACTOR:g} times beyond it): their "
+            "predictions are extrapolations"
+        )
     if distinct is not None and progress:
         show_progress(
             f"  fragility: the ground-motion source gives at most {distinct} records a draw; "
             "the large set was drawn in rounds (a scaled source scales each round anew)"
         )
-    return np.concatenate(intensities), demands, distinct
+    return np.concatenate(intensities), demands, distinct, extrapolated
 
 
 def draw(source: Any, n: int, rng: np.random.Generator) -> tuple[GroundMotions, int]:

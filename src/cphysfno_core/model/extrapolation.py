@@ -15,17 +15,28 @@ EXTRAPOLATION_FACTOR = 3.0
 training record are flagged as extrapolations."""
 
 
+def outside_training(
+    motions: GroundMotions, training_pga: tuple[float, float] | None
+) -> np.ndarray:
+    """``[n]`` whether each record's PGA lies more than :data:`EXTRAPOLATION_FACTOR` beyond
+    ``training_pga``, the range (m/s^2) of the records a model was trained on (None:
+    nothing is known, nothing is outside)."""
+    low, high = training_pga or (0.0, np.inf)
+    pga = peak_ground_acceleration(motions.acceleration)
+    return (pga < low / EXTRAPOLATION_FACTOR) | (pga > high * EXTRAPOLATION_FACTOR)
+
+
 def warn_extrapolation(
     motions: GroundMotions, training_pga: tuple[float, float] | None, label: str
 ) -> None:
-    """Warn (:class:`ExtrapolationWarning`) about records whose PGA lies more than
-    :data:`EXTRAPOLATION_FACTOR` beyond ``training_pga``, the range (m/s^2) of the records
-    model ``label`` was trained on (None: nothing is known, nothing is flagged)."""
-    low, high = training_pga or (0.0, np.inf)
-    pga = peak_ground_acceleration(motions.acceleration)
-    outside = (pga < low / EXTRAPOLATION_FACTOR) | (pga > high * EXTRAPOLATION_FACTOR)
+    """Warn (:class:`ExtrapolationWarning`) about the records :func:`outside_training` of
+    model ``label``; where most records lie outside the training range but inside it
+    divided by g, ask whether they are in g."""
+    outside = outside_training(motions, training_pga)
     if not outside.any():
         return
+    low, high = training_pga or (0.0, np.inf)
+    pga = peak_ground_acceleration(motions.acceleration)
     message = (
         f"{int(outside.sum())} of {len(pga)} records have a PGA outside "
         f"{low / EXTRAPOLATION_FACTOR:.3g}-{high * EXTRAPOLATION_FACTOR:.3g} m/s^2, "
@@ -33,6 +44,8 @@ def warn_extrapolation(
         f"records model '{label}' was trained on: its predictions for them are "
         "extrapolations"
     )
-    if low / STANDARD_GRAVITY <= np.median(pga) <= high / STANDARD_GRAVITY:
+    median = np.median(pga)
+    in_g = low / STANDARD_GRAVITY <= median <= high / STANDARD_GRAVITY
+    if in_g and not low <= median <= high:
         message += " (their PGA falls in the training range divided by g: are they in g?)"
     warnings.warn(message, ExtrapolationWarning, stacklevel=3)
