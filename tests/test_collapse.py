@@ -3,6 +3,7 @@ collapse, left out of training, counted in the file and the report. What the sim
 printed is shown once per distinct message and kept in full."""
 
 import json
+import logging
 import sys
 
 import numpy as np
@@ -116,14 +117,16 @@ def test_the_run_reports_how_many_records_collapsed_and_fits_their_fragility(
 
 
 def test_the_simulators_messages_are_shown_once_each_and_kept_in_full(
-    registry, tmp_path, capsys
+    registry, tmp_path, capsys, caplog
 ):
     source = cp.create("ground_motion", "toy-source", n_steps=60, scale=0.2)
     peaks = np.max(np.abs(source.sample(15, np.random.default_rng(0)).acceleration), axis=1)
     limit = float(np.sort(peaks)[-4])
     config = cp.parse_config({**CONFIG, "structure": {"name": "toy-collapsing", "limit": limit}})
     path = tmp_path / "dataset.h5"
-    cp.generate_dataset(config, path, progress=True)
+    with caplog.at_level(logging.INFO, logger="cphysfno_core.data.generation"):
+        cp.generate_dataset(config, path, progress=True)
+    assert f"record 0: the simulator printed\nWARNING: peak {peaks[0]:.4f} m/s^2" in caplog.text
     shown = capsys.readouterr().err
     assert "the simulator printed 2 distinct messages" in shown
     assert "15 times in    15 records: WARNING: peak # m/s^2" in shown
