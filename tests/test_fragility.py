@@ -109,3 +109,19 @@ def test_a_finite_source_is_drawn_in_rounds_until_there_are_enough():
     assert len(set(factors)) == 8
     single, largest = draw(_ThreeRecords(), 2, np.random.default_rng(0))
     assert single.n_records == 2 and largest == 2
+
+
+def test_the_default_model_is_the_composite_best_on_validation_refined_or_not():
+    from cphysfno_core.app.fragility_study import default_model
+
+    rows = {
+        "physics-els": {"validation_rel_l2": [0.1], "rel_l2": [0.1]},
+        "fno": {"validation_rel_l2": [0.15], "rel_l2": [0.1]},
+        "c-physfno-els": {"validation_rel_l2": [0.18, 0.18], "rel_l2": [0.9, 0.9]},
+        "refined-c-physfno-els": {"validation_rel_l2": [0.21, 0.21], "rel_l2": [0.1, 0.1]},
+        "refined-c-physfno-relaxed": {"validation_rel_l2": [0.3], "rel_l2": [0.1]},
+    }
+    assert default_model({"models": rows}) == "c-physfno-els"
+    rows["refined-c-physfno-els"]["validation_rel_l2"] = [0.18, 0.18]
+    assert default_model({"models": rows}) == "refined-c-physfno-els"
+    assert default_model({"models": {"fno": rows["fno"]}}) == "fno"

@@ -344,8 +344,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--motions", help="read the new motions from a file instead (as predict reads them)"
     )
     fragility.add_argument(
-        "--model", help="a model under RUN/models (default: the best refined C-Phys model "
-        "by validation)"
+        "--model", help="a model under RUN/models (default: the C-Phys model, refined or not, "
+        "with the lowest validation error)"
     )  # fmt: skip
     fragility.add_argument(
         "--im",
