@@ -83,6 +83,8 @@ def test_registry_creates_it_by_name() -> None:
         ({"frequency_step": 0.0}, "white-noise.frequency_step"),
         ({"dt": 0.06}, "white-noise.dt"),
         ({"duration": 0.001}, "white-noise.duration"),
+        ({"spectral_intensity_range": [0.02, 0.01]}, "white-noise.spectral_intensity_range"),
+        ({"spectral_intensity_range": [0.0, 0.01]}, "white-noise.spectral_intensity_range"),
         ({"seed": 1}, "white-noise.seed"),
     ],
 )
@@ -94,3 +96,21 @@ def test_bad_params_name_the_field(params: dict, field: str) -> None:
 def test_bad_record_count_is_an_input_error() -> None:
     with pytest.raises(cphysfno_core.InputError, match="positive integer"):
         WhiteNoise().sample(0, np.random.default_rng(0))
+
+
+def test_a_range_of_spectral_intensities_scales_each_record_by_its_own() -> None:
+    """The records of a range are those of the fixed density (same coefficients), each
+    scaled by sqrt(S_i / S), with S_i log-uniform in the range and in the metadata."""
+    fixed = WhiteNoise().sample(400, np.random.default_rng(5))
+    ranged = WhiteNoise(spectral_intensity_range=(0.0015, 0.06)).sample(
+        400, np.random.default_rng(5)
+    )
+    intensity = np.array([meta["spectral_intensity"] for meta in ranged.metadata])
+    assert intensity.min() >= 0.0015 and intensity.max() <= 0.06
+    np.testing.assert_allclose(
+        ranged.acceleration, np.sqrt(intensity / S)[:, None] * fixed.acceleration, rtol=1e-12
+    )
+    # log-uniform: the decades below and above the geometric middle hold about half each
+    middle = math.sqrt(0.0015 * 0.06)
+    assert 0.4 < np.mean(intensity < middle) < 0.6
+    assert fixed.metadata[0] == {"source": "white-noise", "index": 0}

@@ -21,6 +21,11 @@ class WhiteNoiseParams(Params):
     spectral_intensity: PositiveFloat = Field(
         0.015, description="two-sided power spectral density S of a_g, m^2/s^3"
     )
+    spectral_intensity_range: tuple[PositiveFloat, PositiveFloat] | None = Field(
+        None,
+        description="(low, high) m^2/s^3: each record's S drawn log-uniformly in this range "
+        "instead of spectral_intensity, for records that span intensities (fragility)",
+    )
     n_terms: int = Field(
         1200, gt=0, description="number n of Gaussian coefficients (even): n/2 frequencies"
     )
@@ -29,6 +34,13 @@ class WhiteNoiseParams(Params):
     )
     dt: PositiveFloat = Field(0.01, description="sampling time step, s")
     duration: PositiveFloat = Field(30.0, description="record length, s")
+
+    @field_validator("spectral_intensity_range")
+    @classmethod
+    def _low_to_high(cls, value: tuple[float, float] | None) -> tuple[float, float] | None:
+        if value is not None and value[0] > value[1]:
+            raise ValueError(f"must be (low, high), got {value}")
+        return value
 
     @field_validator("n_terms")
     @classmethod
@@ -66,7 +78,10 @@ class WhiteNoiseParams(Params):
 class WhiteNoise(GroundMotionSource):
     """Stationary band-limited white-noise ground accelerations (paper Eq. WN).
 
-    Records are sampled at ``0, dt, ..., duration`` (3001 samples with the defaults).
+    Records are sampled at ``0, dt, ..., duration`` (3001 samples with the defaults). With
+    ``spectral_intensity_range`` each record has its own spectral density, drawn after
+    its coefficients (so the records are those of the fixed density, each scaled by
+    ``sqrt(S_i / spectral_intensity)``) and kept in its metadata.
     """
 
     name = "white-noise"
@@ -98,8 +113,14 @@ class WhiteNoise(GroundMotionSource):
         omega = p.frequency_step * np.arange(1, half + 1)
         phase = np.outer(omega, np.arange(self.n_steps) * p.dt)
         basis = np.concatenate([np.cos(phase), np.sin(phase)])
-        sigma = math.sqrt(2.0 * p.spectral_intensity * p.frequency_step)
         coefficients = rng.standard_normal((int(n), p.n_terms))
-        acceleration = sigma * (coefficients @ basis)
-        metadata = tuple({"source": self.name, "index": i} for i in range(int(n)))
-        return GroundMotions(acceleration, p.dt, metadata)
+        metadata = [{"source": self.name, "index": i} for i in range(int(n))]
+        intensity = np.full(int(n), p.spectral_intensity)
+        if p.spectral_intensity_range is not None:
+            low, high = np.log(p.spectral_intensity_range)
+            intensity = np.exp(rng.uniform(low, high, size=int(n)))
+            for meta, value in zip(metadata, intensity, strict=True):
+                meta["spectral_intensity"] = float(value)
+        sigma = np.sqrt(2.0 * intensity * p.frequency_step)
+        acceleration = sigma[:, None] * (coefficients @ basis)
+        return GroundMotions(acceleration, p.dt, tuple(metadata))
