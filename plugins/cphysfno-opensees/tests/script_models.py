@@ -9,6 +9,7 @@ model in metres and newtons and the same model in inches and kips.
 from __future__ import annotations
 
 import importlib.util
+import re
 import sys
 from pathlib import Path
 
@@ -16,6 +17,23 @@ import numpy as np
 import scipy.linalg
 
 from cphysfno_core.testing.physics import smooth_random_motions
+
+EXAMPLES = Path(__file__).parents[3] / "examples"
+TINY = {
+    "n_train": 4,
+    "n_val": 2,
+    "n_test": 2,
+    "chunk_size": 8,
+    "epochs": 1,
+    "batch_size": 4,
+    "layers": 1,
+    "modes": 4,
+    "width": 4,
+    "projection_width": 8,
+    "duration": 4.0,
+    "copies": 1,
+}
+"""The sizes an example config is cut down to for an end-to-end test."""
 
 METRES_PER_INCH = 0.0254
 NEWTONS_PER_KIP = 4448.2216152605
@@ -193,16 +211,7 @@ def direct_run(
     script.build()
     if gravity:
         script.gravity()
-        ops.constraints("Transformation")
-        ops.numberer("RCM")
-        ops.system("BandGeneral")
-        ops.test("NormDispIncr", tolerance / metres_per_unit, 25)
-        ops.algorithm("Newton")
-        ops.integrator("LoadControl", 0.1)
-        ops.analysis("Static")
-        assert ops.analyze(10) == 0
-        ops.loadConst("-time", 0.0)
-        ops.wipeAnalysis()
+        analyse_gravity(ops, ("Transformation",), tolerance / metres_per_unit)
     ops.constraints("Transformation")
     ops.numberer("Plain")
     ops.system("FullGeneral")
@@ -269,3 +278,33 @@ def relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
 
 def eigh_periods(stiffness: np.ndarray, mass: np.ndarray) -> np.ndarray:
     return 2.0 * np.pi / np.sqrt(scipy.linalg.eigh(stiffness, mass, eigvals_only=True))
+
+
+def tiny_example(name: str, folder: Path, **changes) -> Path:
+    """``examples/<name>.toml`` at :data:`TINY` sizes with any other ``changes`` to its
+    lines ``key = value``, written into ``folder`` with its script's path made absolute
+    (the copy lies in another folder)."""
+    text = (EXAMPLES / f"{name}.toml").read_text()
+    for key, value in {**TINY, **changes}.items():
+        text, count = re.subn(rf"(?m)^{key} = [^#\n]*", f"{key} = {value} ", text)
+        assert count == 1, key
+    text, count = re.subn(r'(?m)^script = "', f'script = "{EXAMPLES}/', text)
+    assert count == 1
+    path = folder / f"{name}.toml"
+    path.write_text(text)
+    return path
+
+
+def analyse_gravity(ops, handler: tuple, tolerance: float) -> None:
+    """Analyse the gravity loads a script applied (ten load steps, Newton, ``handler``,
+    ``tolerance`` on the displacement increment in model units) and hold them."""
+    ops.constraints(*handler)
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", tolerance, 25)
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 0.1)
+    ops.analysis("Static")
+    assert ops.analyze(10) == 0
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()

@@ -27,9 +27,7 @@ from cphysfno_core import GroundMotions
 from cphysfno_core.app.cli import main
 from cphysfno_core.testing.physics import smooth_random_motions
 
-EXAMPLES = Path(__file__).parents[3] / "examples"
-SCRIPT = EXAMPLES / "models" / "imk_frame_kip_inch.py"
-CONFIG = EXAMPLES / "opensees-model-imk.toml"
+SCRIPT = sm.EXAMPLES / "models" / "imk_frame_kip_inch.py"
 FLOORS = [[12, 1], [13, 1]]
 DAMPING = 0.02  # the published example's Rayleigh ratio, modes 1 and 2
 PUBLISHED_T1 = 0.83  # s, at the gravity state
@@ -88,16 +86,7 @@ def _gravity_state(script: Path, handler: tuple, tolerance: float) -> object:
     ops.wipe()
     module.build()
     module.gravity()
-    ops.constraints(*handler)
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", tolerance, 25)
-    ops.algorithm("Newton")
-    ops.integrator("LoadControl", 0.1)
-    ops.analysis("Static")
-    assert ops.analyze(10) == 0
-    ops.loadConst("-time", 0.0)
-    ops.wipeAnalysis()
+    sm.analyse_gravity(ops, handler, tolerance)
     return ops
 
 
@@ -245,35 +234,9 @@ def test_a_twin_tied_by_rigid_links_is_the_same_frame(frame, twin, strong):
     assert np.all(same < 1e-6)
 
 
-TINY = {
-    "n_train": 4,
-    "n_val": 2,
-    "n_test": 2,
-    "chunk_size": 8,
-    "epochs": 1,
-    "batch_size": 4,
-    "layers": 1,
-    "modes": 4,
-    "width": 4,
-    "projection_width": 8,
-    "duration": 4.0,
-    "copies": 1,
-    "workers": 1,
-}
-
-
 def _tiny_config(folder: Path, **changes) -> Path:
-    """examples/opensees-model-imk.toml at tiny size, its script's path made absolute,
-    and any other ``changes`` to its lines ``key = value``."""
-    text = CONFIG.read_text()
-    for key, value in {**TINY, **changes}.items():
-        text, count = re.subn(rf"(?m)^{key} = [^#\n]*", f"{key} = {value} ", text)
-        assert count == 1, key
-    text, count = re.subn(r'(?m)^script = "', f'script = "{EXAMPLES}/', text)
-    assert count == 1
-    config = folder / "imk.toml"
-    config.write_text(text)
-    return config
+    """examples/opensees-model-imk.toml at tiny size, one worker, and ``changes``."""
+    return sm.tiny_example("opensees-model-imk", folder, workers=1, **changes)
 
 
 def test_opensees_warnings_are_shown_once_with_their_count_and_kept_in_full(tmp_path, capfd):

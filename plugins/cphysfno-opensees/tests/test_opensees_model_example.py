@@ -4,51 +4,20 @@ SI frame, and the kip-inch frame with its leaning column tied in chains."""
 from __future__ import annotations
 
 import json
-import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+import script_models as sm
 
 import cphysfno_core as cp
 from cphysfno_core.app.cli import main
-
-EXAMPLES = Path(__file__).parents[3] / "examples"
-TINY = {
-    "n_train": 4,
-    "n_val": 2,
-    "n_test": 2,
-    "chunk_size": 8,
-    "epochs": 1,
-    "batch_size": 4,
-    "layers": 1,
-    "modes": 4,
-    "width": 4,
-    "projection_width": 8,
-    "duration": 4.0,
-    "copies": 1,
-}
-
-
-def _tiny(name: str, folder: Path) -> Path:
-    """The example with tiny sizes and its script's path made absolute (the copy lies in
-    another folder)."""
-    text = (EXAMPLES / f"{name}.toml").read_text()
-    for key, value in TINY.items():
-        text, count = re.subn(rf"(?m)^{key} = [^#\n]*", f"{key} = {value}", text)
-        assert count, key
-    text, count = re.subn(r'(?m)^script = "', f'script = "{EXAMPLES}/', text)
-    assert count == 1
-    path = folder / f"{name}.toml"
-    path.write_text(text)
-    return path
 
 
 @pytest.mark.parametrize(
     ("name", "handler"), [("opensees-model", "Transformation"), ("opensees-model-us", "Penalty")]
 )
 def test_the_example_runs_end_to_end(name, handler, tmp_path):
-    config = _tiny(name, tmp_path)
+    config = sm.tiny_example(name, tmp_path)
     out = tmp_path / "out"
     assert main(["-q", "run", str(config), "--out", str(out)]) == 0
     metrics = json.loads((out / "metrics.json").read_text())
@@ -67,7 +36,7 @@ def test_the_example_runs_end_to_end(name, handler, tmp_path):
 
 @pytest.mark.parametrize("name", ["opensees-model", "opensees-model-us"])
 def test_the_example_scripts_are_the_models_they_describe(name):
-    structure = cp.load_config(EXAMPLES / f"{name}.toml").structure
+    structure = cp.load_config(sm.EXAMPLES / f"{name}.toml").structure
     model = cp.create("structure", structure.name, **structure.params)
     expected = {"opensees-model": 0.4645, "opensees-model-us": 0.8458}[name]
     assert model.periods()[0] == pytest.approx(expected, rel=1e-3)
