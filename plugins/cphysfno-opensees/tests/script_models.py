@@ -252,15 +252,7 @@ def eigen_periods(path: Path, n: int, *, gravity: bool = False) -> np.ndarray:
     script.build()
     if gravity:
         script.gravity()
-        ops.constraints("Transformation")
-        ops.numberer("RCM")
-        ops.system("BandGeneral")
-        ops.test("NormDispIncr", 1e-8, 25)
-        ops.algorithm("Newton")
-        ops.integrator("LoadControl", 0.1)
-        ops.analysis("Static")
-        assert ops.analyze(10) == 0
-        ops.loadConst("-time", 0.0)
+        analyse_gravity(ops, ("Transformation",), 1e-8)
     ops.wipeAnalysis()
     ops.constraints("Transformation")
     ops.numberer("Plain")
