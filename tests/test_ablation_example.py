@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from toy_experiment import toy_experiment
 
-from cphysfno_core import CompositeModel, load_dataset
+from cphysfno_core import CompositeModel, load_config, load_dataset
 from cphysfno_core.reporting import metrics
 
 SCRIPT = Path(__file__).parents[1] / "examples" / "ablation" / "run_ablation.py"
@@ -61,7 +61,9 @@ def test_every_row_is_trained_as_its_tables_say_and_scored_on_the_test_split(
     out, result = tmp_path / "rows", tmp_path / "result.json"
     dataset = tmp_path / "dataset.h5"
     arguments = [str(tmp_path / "ablation.toml"), "--dataset", str(dataset)]
-    assert module.main([*arguments, "--out", str(out), "--json", str(result)]) == 0
+    study = tmp_path / "chosen.toml"
+    options = ["--out", str(out), "--json", str(result), "--chosen-study", str(study)]
+    assert module.main([*arguments, *options, "--seeds", "3"]) == 0
     document = json.loads(result.read_text())
     assert list(document["rows"]) == ["as the base", "Residual, wider!"]
     plain, changed = document["rows"].values()
@@ -95,3 +97,10 @@ def test_every_row_is_trained_as_its_tables_say_and_scored_on_the_test_split(
     assert document["selection"]["selected_on"] == "validation"
     assert document["selection"]["row"] == chosen
     assert document["selection"]["test_rel_l2"] == document["rows"][chosen]["rel_l2"]
+    config = load_config(study)
+    row = document["rows"][chosen]
+    assert config.operator[0].to_dict() == row["operator"]
+    assert config.formulation.model_dump() == row["formulation"]
+    assert config.training.epochs == row["training"]["epochs"]
+    assert [p.name for p in config.preprocessor] == ["toy-linear"]
+    assert config.study.seeds == [0, 1, 2] and not config.output.baseline

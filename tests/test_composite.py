@@ -259,3 +259,26 @@ def test_loading_a_model_whose_plugin_is_missing_names_the_distribution(toy_data
         "1.2.0, which is not installed here: pip install cphysfno-toys",
     ):
         cp.CompositeModel.load(tmp_path / "m")
+
+
+def test_weight_decay_is_decoupled_from_the_gradient(toy_data, toy_registry):
+    """Weight decay is decoupled (AdamW): a tiny decay changes the weights only tinily. As
+    an L2 term under Adam, any decay would move every weight without a loss gradient by
+    about the learning rate a step (Adam divides the term by its own size); in a residual
+    model that is every hidden layer at the start, whose output layer is zero, and the
+    hidden layers of a full-size FNO die before the network learns anything."""
+    structure, gm, u = toy_data
+    toy_registry.register("cphysfno_fno.plugin")
+    weights = []
+    for decay in (0.0, 1e-8):
+        model = cp.compose(
+            structure=structure,
+            preprocessor="toy-linear",
+            operator=("fno", {"layers": 2, "modes": 8, "width": 16, "projection_width": 8}),
+            training={"batch_size": 4, "weight_decay": decay},
+            formulation={"residual": True},
+        )
+        model.fit(gm[:16], u[:16], validation=(gm[16:20], u[16:20]), epochs=2, progress=None)
+        weights.append([p.detach().clone() for p in model.operator_.parameters()])
+    for no_decay, tiny_decay in zip(*weights, strict=True):
+        torch.testing.assert_close(tiny_decay, no_decay, rtol=1e-5, atol=1e-7)

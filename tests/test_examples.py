@@ -102,9 +102,14 @@ def _to_toml(data: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def test_the_beyond_preset_is_the_best_ablation_row():
+def test_the_beyond_preset_is_the_ablation_row_chosen_on_validation():
     ablation = tomllib.loads((EXAMPLES / "ablation" / "bouc-wen-ablation.toml").read_text())
-    row = next(r for r in ablation["row"] if "width 96" in r["name"] and "seed" not in r["name"])
+    results = json.loads((EXAMPLES.parent / "results" / "example1-ablation.json").read_text())
+    selection = results["selection"]
+    assert selection["selected_on"] == "validation"
+    rows = results["rows"]
+    assert selection["row"] == min(rows, key=lambda r: rows[r]["validation"]["rel_l2_mean"])
+    row = next(r for r in ablation["row"] if r["name"] == selection["configuration"])
     base = cp.load_config(EXAMPLES / "ablation" / ablation["base"])
     preset = cp.load_config(EXAMPLES / "bouc-wen-beyond.toml")
     assert preset.operator[0].params == {**base.operator[0].params, **row["operator"]}
@@ -116,6 +121,7 @@ def test_the_beyond_preset_is_the_best_ablation_row():
     assert preset.training.model_dump() == training
     assert preset.data.model_dump() == base.data.model_dump()
     assert [p.name for p in preset.preprocessor] == [ablation["preprocessor"]]
+    assert preset.study.seeds == list(range(10))
 
 
 def test_the_cpu_configs_of_examples_2_and_3_are_the_full_ones_cut_down():

@@ -195,17 +195,70 @@ def run(ablation_path: Path, dataset_path: Path, out: Path, json_path: Path) -> 
 
 
 def select_on_validation(document: dict[str, Any]) -> dict[str, Any]:
-    """The single-model row with the lowest validation relative L2 (mean over outputs):
-    the configuration chosen, and its test error, read once after the choice."""
+    """The single-model row with the lowest validation relative L2 (mean over outputs),
+    its configuration (the row's name without a trailing ", seed N": a study trains it
+    for its own seeds), and its test error, read once after the choice."""
     rows = document["rows"]
     chosen = min(rows, key=lambda name: rows[name]["validation"]["rel_l2_mean"])
     return {
         "selected_on": "validation",
         "criterion": "mean over outputs of the validation relative L2, single models only",
         "row": chosen,
+        "configuration": re.sub(r", seed \d+$", "", chosen),
         "validation_rel_l2": rows[chosen]["validation"]["rel_l2"],
         "test_rel_l2": rows[chosen]["rel_l2"],
     }
+
+
+def toml_text(table: dict[str, Any], prefix: str = "") -> str:
+    """``table`` (str keys; str, bool, int, float and list values, nested tables and arrays
+    of tables) as TOML text."""
+
+    def value(item: Any) -> str:
+        if isinstance(item, list):
+            return "[" + ", ".join(value(v) for v in item) + "]"
+        return json.dumps(item)  # strings, numbers and booleans read alike in TOML
+
+    def is_tables(item: Any) -> bool:
+        return isinstance(item, list) and bool(item) and all(isinstance(v, dict) for v in item)
+
+    lines = [
+        f"{key} = {value(item)}"
+        for key, item in table.items()
+        if item is not None and not isinstance(item, dict) and not is_tables(item)
+    ]
+    for key, item in table.items():
+        name = f"{prefix}{key}"
+        if isinstance(item, dict):
+            lines += ["", f"[{name}]", toml_text(item, f"{name}.")]
+        elif is_tables(item):
+            for entry in item:
+                lines += ["", f"[[{name}]]", toml_text(entry, f"{name}.")]
+    return "\n".join(lines).strip("\n")
+
+
+def chosen_study_config(ablation_path: Path, document: dict[str, Any], seeds: list[int]) -> str:
+    """The TOML of a study of the row ``document["selection"]`` chose: the base config
+    with the ablation's preprocessor alone, no baseline, the row's operator, formulation
+    and training, trained for each of ``seeds`` (``cphysfno study`` runs it)."""
+    ablation = tomllib.loads(ablation_path.read_text())
+    chosen = document["selection"]["configuration"]
+    row = next(r for r in ablation["row"] if r["name"] == chosen)
+    config = load_config(ablation_path.parent / ablation["base"]).to_dict()
+    config["preprocessor"] = [
+        p for p in config["preprocessor"] if p["name"] == ablation["preprocessor"]
+    ]
+    config["operator"] = {**config["operator"], **row.get("operator", {})}
+    config["formulation"] = {**config["formulation"], **row.get("formulation", {})}
+    config["training"] = {**config["training"], **row.get("training", {})}
+    config["training"].pop("seed", None)
+    config["output"]["baseline"] = False
+    config["study"] = {"seeds": seeds}
+    header = (
+        f"# The row of {ablation_path.name} chosen by its validation error: {chosen}\n"
+        f"# (written by run_ablation.py --chosen-study; train it with cphysfno study)\n\n"
+    )
+    return header + toml_text(config) + "\n"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -214,8 +267,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--dataset", type=Path, required=True, help="dataset.h5 of the base")
     parser.add_argument("--out", type=Path, required=True, help="folder of the trained rows")
     parser.add_argument("--json", type=Path, required=True, help="results file to write")
+    parser.add_argument(
+        "--chosen-study",
+        type=Path,
+        help="also write the study config (TOML) of the row chosen on validation here",
+    )
+    parser.add_argument(
+        "--seeds", type=int, default=10, help="training seeds 0..N-1 of that study (10)"
+    )
     args = parser.parse_args(argv)
-    run(args.ablation, args.dataset, args.out, args.json)
+    document = run(args.ablation, args.dataset, args.out, args.json)
+    if args.chosen_study is not None:
+        text = chosen_study_config(args.ablation, document, list(range(args.seeds)))
+        args.chosen_study.write_text(text)
     return 0
 
 

@@ -94,7 +94,15 @@ class TrainingConfig(_Strict):
     learning_rate: float = Field(1e-3, gt=0)
     decay_step: int = Field(10, gt=0, description="epochs between learning-rate decays")
     decay_factor: float = Field(0.5, gt=0, le=1)
-    weight_decay: float = Field(0.0, ge=0)
+    weight_decay: float = Field(
+        0.0,
+        ge=0,
+        description="decoupled weight decay (AdamW): every step multiplies each weight by "
+        "1 - learning_rate * weight_decay. Not an L2 term in the loss: under Adam that term "
+        "shrinks every weight whose loss gradient is zero (all hidden layers at the start of "
+        "a residual model, whose output layer starts at zero) by about the learning rate a "
+        "step, and kills the network",
+    )
     loss: Literal["relative-l2"] = "relative-l2"
     normalize: bool = Field(
         True,

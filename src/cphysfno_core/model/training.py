@@ -228,8 +228,9 @@ def train_operator(
         y_train, y_val: targets in physical units (m); the loss is computed on decoded
             outputs so it is the paper's relative L2 of displacements.
         output_normalizer: decodes the operator output to physical units.
-        settings: epochs, batch size, Adam learning rate, step decay, seed, device (the
-            operator is moved to it and stays there; the data are copied to it whole),
+        settings: epochs, batch size, Adam learning rate, decoupled (AdamW) weight decay,
+            step decay, seed, device (the operator is moved to it and stays there; the
+            data are copied to it whole),
             precision of the operator's passes (see :mod:`cphysfno_core.precision`).
         progress: called after every epoch (None for silence).
         checkpoint: file written (atomically) after every epoch with everything needed
@@ -256,7 +257,7 @@ def train_operator(
             return operator(x).float()
 
     parameters = list(operator.parameters())
-    optimiser = torch.optim.Adam(
+    optimiser = torch.optim.AdamW(
         parameters,
         lr=settings.learning_rate,
         weight_decay=settings.weight_decay,
