@@ -40,12 +40,14 @@ def summary(texts: Mapping[int, str], limit: int = 20) -> str:
     analysing it), most frequent first, each once with how many times it was printed and
     in how many records; at most ``limit`` of them, then how many more. Empty when
     nothing was printed."""
-    counts = tally(texts.values())
-    if not counts:
-        return ""
+    counts: Counter[str] = Counter()
     records: Counter[str] = Counter()
     for text in texts.values():
-        records.update(set(tally([text])))
+        own = tally([text])
+        counts.update(own)
+        records.update(own.keys())
+    if not counts:
+        return ""
     lines = [f"the simulator printed {len(counts)} distinct messages (numbers written #):"]
     for message, count in counts.most_common(limit):
         lines.append(f"  {count:>7} times in {records[message]:>5} records: {message}")

@@ -21,8 +21,11 @@ def outside_training(
     """``[n]`` whether each record's PGA lies more than :data:`EXTRAPOLATION_FACTOR` beyond
     ``training_pga``, the range (m/s^2) of the records a model was trained on (None:
     nothing is known, nothing is outside)."""
+    return _outside(peak_ground_acceleration(motions.acceleration), training_pga)
+
+
+def _outside(pga: np.ndarray, training_pga: tuple[float, float] | None) -> np.ndarray:
     low, high = training_pga or (0.0, np.inf)
-    pga = peak_ground_acceleration(motions.acceleration)
     return (pga < low / EXTRAPOLATION_FACTOR) | (pga > high * EXTRAPOLATION_FACTOR)
 
 
@@ -32,11 +35,11 @@ def warn_extrapolation(
     """Warn (:class:`ExtrapolationWarning`) about the records :func:`outside_training` of
     model ``label``; where most records lie outside the training range but inside it
     divided by g, ask whether they are in g."""
-    outside = outside_training(motions, training_pga)
+    pga = peak_ground_acceleration(motions.acceleration)
+    outside = _outside(pga, training_pga)
     if not outside.any():
         return
     low, high = training_pga or (0.0, np.inf)
-    pga = peak_ground_acceleration(motions.acceleration)
     message = (
         f"{int(outside.sum())} of {len(pga)} records have a PGA outside "
         f"{low / EXTRAPOLATION_FACTOR:.3g}-{high * EXTRAPOLATION_FACTOR:.3g} m/s^2, "
