@@ -1,4 +1,4 @@
-"""On the CPU the trainer's Adam runs fused, and trains as the standard Adam does."""
+"""On the CPU the trainer's Adam (AdamW) runs fused, and trains as the standard one does."""
 
 import numpy as np
 import torch
@@ -9,13 +9,13 @@ from cphysfno_core.model import training
 
 def test_the_fused_adam_trains_as_the_standard_one(toy_registry, monkeypatch):
     made = []
-    adam = torch.optim.Adam
+    adam = torch.optim.AdamW
 
     def recording_adam(*args, **kwargs):
         made.append(kwargs)
         return adam(*args, **kwargs)
 
-    monkeypatch.setattr(torch.optim, "Adam", recording_adam)
+    monkeypatch.setattr(torch.optim, "AdamW", recording_adam)
     data = toy_data()
     fused = fit_toy(*data, progress=None)
     monkeypatch.setattr(training, "FUSED_ADAM_DEVICES", ())
