@@ -1,6 +1,11 @@
+import math
+import tomllib
+from pathlib import PurePosixPath
+
 import pytest
 
 import cphysfno_core as cp
+from cphysfno_core.config.toml_writer import dumps
 
 BASE = {
     "structure": {"name": "toy-structure", "cubic": 5.0},
@@ -98,3 +103,35 @@ def test_absolute_paths_and_paths_in_a_mapping_are_kept(tmp_path):
     assert cp.load_config(tmp_path / "absolute.toml").structure.params["script"] == str(script)
     relative = {**data, "structure": {**data["structure"], "script": "frame.py"}}
     assert cp.parse_config(relative).structure.params["script"] == "frame.py"
+
+
+def test_the_toml_writer_reads_back_what_it_wrote():
+    data = {
+        "title": 'a "quoted"\nname é',
+        "path": PurePosixPath("/records/RSN1.AT2"),
+        "ratio": 1e-05,
+        "limits": [-math.inf, math.inf],
+        "flag": False,
+        "empty": [],
+        "grid": [[1, 2], [3]],
+        "points": [{"x": 1.0}, 2],
+        "dotted.key": 3,
+        "missing": None,
+        "table": {"n": 1, "inner": {"deep": "yes"}, "rows": [{"a": 1, "sub": {"b": 2}}]},
+        "layer": [{"kind": "fno", "widths": [8, 16]}, {"kind": "deeponet"}],
+    }
+    back = tomllib.loads(dumps(data))
+    assert math.isnan(tomllib.loads(dumps({"nan": math.nan}))["nan"])
+    expected = {k: v for k, v in data.items() if v is not None}
+    expected["path"] = "/records/RSN1.AT2"
+    assert back == expected
+
+
+def test_the_toml_writer_names_a_value_it_cannot_write():
+    with pytest.raises(TypeError, match="no TOML form for complex"):
+        dumps({"z": 1j})
+
+
+def test_a_config_reads_back_from_its_toml(toy_registry):
+    config = cp.parse_config(_with("training", epochs=3, learning_rate=2.5e-4))
+    assert cp.parse_config(tomllib.loads(config.to_toml())) == config

@@ -21,6 +21,13 @@ def test_every_example_config_is_valid():
         cp.load_config(path)
 
 
+def test_every_example_config_reads_back_from_its_toml():
+    configs = sorted(EXAMPLES.glob("*.toml")) + sorted(EXAMPLES.glob("paper-setup/*.toml"))
+    for path in configs:
+        config = cp.load_config(path)
+        assert cp.parse_config(tomllib.loads(config.to_toml())) == config, path.name
+
+
 def test_paper_config_has_the_papers_sizes():
     config = cp.load_config(EXAMPLES / "bouc-wen.toml")
     assert (config.data.n_train, config.data.n_val, config.data.n_test) == (400, 100, 200)
@@ -56,7 +63,7 @@ def test_tiny_example1_runs_end_to_end(tmp_path, capsys):
     deeponet.update(sensors=32, latent=8, branch_width=16, trunk_width=16, fourier_features=8)
     data["training"].update(epochs=2, batch_size=5)
     path = tmp_path / "tiny.toml"
-    path.write_text(_to_toml(data))
+    path.write_text(cp.parse_config(data).to_toml())
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out)]) == 0
     printed = capsys.readouterr().out
@@ -89,17 +96,6 @@ def test_tiny_example1_runs_end_to_end(tmp_path, capsys):
     mean, std = model.predict(gm)
     assert mean.shape == std.shape == (3, 601, 5)
     assert np.isfinite(mean).all() and (std > 0).all()
-
-
-def _to_toml(data: dict) -> str:
-    lines = []
-    for section, body in data.items():
-        tables = body if isinstance(body, list) else [body]
-        for table in tables:
-            lines.append(f"[[{section}]]" if isinstance(body, list) else f"[{section}]")
-            for key, value in table.items():
-                lines.append(f"{key} = {json.dumps(value)}")
-    return "\n".join(lines) + "\n"
 
 
 def test_the_beyond_preset_is_the_ablation_row_chosen_on_validation():

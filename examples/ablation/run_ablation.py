@@ -40,6 +40,7 @@ from cphysfno_core import (
     load_config,
     load_dataset,
     metrics,
+    parse_config,
 )
 from cphysfno_core.app.pipeline import interval_coverage_scores
 from cphysfno_core.model.composite import Prediction
@@ -210,33 +211,6 @@ def select_on_validation(document: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def toml_text(table: dict[str, Any], prefix: str = "") -> str:
-    """``table`` (str keys; str, bool, int, float and list values, nested tables and arrays
-    of tables) as TOML text."""
-
-    def value(item: Any) -> str:
-        if isinstance(item, list):
-            return "[" + ", ".join(value(v) for v in item) + "]"
-        return json.dumps(item)  # strings, numbers and booleans read alike in TOML
-
-    def is_tables(item: Any) -> bool:
-        return isinstance(item, list) and bool(item) and all(isinstance(v, dict) for v in item)
-
-    lines = [
-        f"{key} = {value(item)}"
-        for key, item in table.items()
-        if item is not None and not isinstance(item, dict) and not is_tables(item)
-    ]
-    for key, item in table.items():
-        name = f"{prefix}{key}"
-        if isinstance(item, dict):
-            lines += ["", f"[{name}]", toml_text(item, f"{name}.")]
-        elif is_tables(item):
-            for entry in item:
-                lines += ["", f"[[{name}]]", toml_text(entry, f"{name}.")]
-    return "\n".join(lines).strip("\n")
-
-
 def chosen_study_config(ablation_path: Path, document: dict[str, Any], seeds: list[int]) -> str:
     """The TOML of a study of the row ``document["selection"]`` chose: the base config
     with the ablation's preprocessor alone, no baseline, the row's operator, formulation
@@ -258,7 +232,7 @@ def chosen_study_config(ablation_path: Path, document: dict[str, Any], seeds: li
         f"# The row of {ablation_path.name} chosen by its validation error: {chosen}\n"
         f"# (written by run_ablation.py --chosen-study; train it with cphysfno study)\n\n"
     )
-    return header + toml_text(config) + "\n"
+    return header + parse_config(config).to_toml()
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -21,6 +21,7 @@ from ..api.kinds import KINDS
 from ..api.registry import Registry, get_registry
 from ..signals.errors import ConfigError
 from .precision import Precision
+from .toml_writer import dumps
 
 
 class _Strict(BaseModel):
@@ -248,6 +249,10 @@ class ExperimentConfig(_Strict):
         if self.refiner is not None:
             data["refiner"] = self.refiner.to_dict()
         return data
+
+    def to_toml(self) -> str:
+        """The config as TOML text; ``parse_config(tomllib.loads(text))`` gives it back."""
+        return dumps(self.to_dict())
 
 
 def check_components(config: ExperimentConfig, registry: Registry | None = None) -> None:

@@ -1,0 +1,68 @@
+"""Plain data (the mapping a config is read into) written back as TOML text.
+
+``tomllib`` reads TOML but the standard library has no writer; configs written by the
+package (a study's chosen configuration, a test's shrunk example) go through ``dumps``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import PurePath
+from typing import Any
+
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+
+
+def dumps(table: dict[str, Any]) -> str:
+    """``table`` as TOML text that ``tomllib.loads`` reads back to the same mapping.
+
+    Values may be strings, paths (written as strings), booleans, integers, floats
+    (``inf``/``nan`` included), lists and nested mappings; a list whose items are all
+    mappings becomes an array of tables (``[[key]]``), a mapping inside any other list an
+    inline table. ``None`` has no TOML form: keys holding it are left out, so a config field
+    whose default is ``None`` reads back the same.
+    """
+    return _table(table, prefix="").strip("\n") + "\n"
+
+
+def _table(table: dict[str, Any], prefix: str) -> str:
+    lines = [
+        f"{_key(key)} = {_value(item)}"
+        for key, item in table.items()
+        if item is not None and not isinstance(item, dict) and not _is_tables(item)
+    ]
+    for key, item in table.items():
+        name = f"{prefix}{_key(key)}"
+        if isinstance(item, dict):
+            lines += ["", f"[{name}]", _table(item, f"{name}.")]
+        elif _is_tables(item):
+            for entry in item:
+                lines += ["", f"[[{name}]]", _table(entry, f"{name}.")]
+    return "\n".join(lines).strip("\n")
+
+
+def _is_tables(item: Any) -> bool:
+    return isinstance(item, list) and bool(item) and all(isinstance(v, dict) for v in item)
+
+
+def _key(key: str) -> str:
+    return key if _BARE_KEY.fullmatch(key) else json.dumps(key)
+
+
+def _value(item: Any) -> str:
+    if isinstance(item, bool | int | str):
+        return json.dumps(item)  # TOML's basic strings take JSON's escapes
+    if isinstance(item, float):
+        if math.isnan(item):
+            return "nan"
+        return ("-inf" if item < 0 else "inf") if math.isinf(item) else repr(item)
+    if isinstance(item, PurePath):
+        return json.dumps(str(item))
+    if isinstance(item, list | tuple):
+        return "[" + ", ".join(_value(v) for v in item) + "]"
+    if isinstance(item, dict):
+        pairs = (f"{_key(k)} = {_value(v)}" for k, v in item.items() if v is not None)
+        return "{ " + ", ".join(pairs) + " }"
+    raise TypeError(f"no TOML form for {type(item).__name__} value {item!r}")
