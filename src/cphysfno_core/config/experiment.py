@@ -237,6 +237,7 @@ class ExperimentConfig(_Strict):
         return self
 
     def to_dict(self) -> dict[str, Any]:
+        """The config as plain data (JSON types), its sections in the order of the fields."""
         data = self.model_dump(
             mode="json",
             exclude={kind.name for kind in KINDS},
@@ -248,7 +249,7 @@ class ExperimentConfig(_Strict):
         data["preprocessor"] = [p.to_dict() for p in self.preprocessor]
         if self.refiner is not None:
             data["refiner"] = self.refiner.to_dict()
-        return data
+        return {name: data[name] for name in type(self).model_fields if name in data}
 
     def to_toml(self) -> str:
         """The config as TOML text; ``parse_config(tomllib.loads(text))`` gives it back."""
