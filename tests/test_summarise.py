@@ -10,6 +10,7 @@ import cphysfno_core as cp
 from cphysfno_core import ConfigError
 from cphysfno_core.app.cli import main
 from cphysfno_core.app.study import summarise_runs
+from cphysfno_core.app.summary_combination import combine_summaries
 
 
 def _run(tmp_path, seed, n_test=3):
@@ -54,3 +55,90 @@ def test_runs_that_do_not_match_or_are_unfinished_are_refused(toy_registry, tmp_
     with pytest.raises(ConfigError, match="is not a finished run"):
         summarise_runs([tmp_path])
     assert not out.exists()
+
+
+def _summary_of(rows, seeds, sweep_rows=None):
+    """A study.json of per-seed ``rows`` (seed -> label -> [n_outputs]) by hand."""
+    labels = rows[seeds[0]]
+    models = {}
+    for label in labels:
+        values = np.array([rows[s][label] for s in seeds])
+        models[label] = {
+            "rel_l2": {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()},
+            "selected_on": "validation",
+        }
+    sweeps = {}
+    if sweep_rows is not None:
+        sweeps["layers"] = {
+            "field": "operator.layers",
+            "label": "layers",
+            "values": [2, 4],
+            "rel_l2": {"fno": {"2": [sweep_rows[s] for s in seeds], "4": []}},
+        }
+    return {
+        "models": models,
+        "sweeps": sweeps,
+        "seeds": list(seeds),
+        "epochs": 100,
+        "sizes": {"train": 400, "val": 100, "test": 200},
+        "output_names": ["story-1", "story-2", "story-3"],
+        "response_rms": [0.01, 0.02, 0.03],
+        "device": f"machine {seeds[0]}",
+    }
+
+
+def test_summaries_of_disjoint_seeds_combine_to_the_summary_of_all():
+    rng = np.random.default_rng(3)
+    rows = {
+        s: {"fno": rng.uniform(0.3, 0.5, 3), "c-physfno-els": rng.uniform(0.1, 0.3, 3)}
+        for s in range(10)
+    }
+    sweep_rows = {s: rng.uniform(0.3, 0.5, 3).tolist() for s in range(10)}
+    parts = [_summary_of(rows, seeds, sweep_rows) for seeds in ([0, 1, 2, 3, 4, 5], [6, 7], [8, 9])]
+    combined = combine_summaries(parts)
+    for label in ("fno", "c-physfno-els"):
+        values = np.array([rows[s][label] for s in range(10)])
+        np.testing.assert_allclose(
+            combined["models"][label]["rel_l2"]["mean"], values.mean(axis=0), rtol=1e-12
+        )
+        np.testing.assert_allclose(
+            combined["models"][label]["rel_l2"]["std"], values.std(axis=0), rtol=1e-10
+        )
+        assert combined["models"][label]["selected_on"] == "validation"
+    assert combined["seeds"] == list(range(10))
+    assert combined["sweeps"]["layers"]["rel_l2"]["fno"]["2"] == [sweep_rows[s] for s in range(10)]
+    assert combined["device"] == "machine 0, machine 6, machine 8"
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (lambda s: s.update(seeds=[5, 6]), r"seeds \[5\] are in more than one summary"),
+        (lambda s: s.update(sizes={"train": 300, "val": 100, "test": 200}), "summary 1 has sizes"),
+        (lambda s: s["models"].pop("fno"), r"differ in models \['fno'\]"),
+        (lambda s: s.update(response_rms=[0.01, 0.02, 0.04]), "another test response"),
+        (lambda s: s["models"]["fno"].update(selected_on="test"), "fno: selected_on differs"),
+    ],
+)
+def test_summaries_that_do_not_combine_are_refused(change, message):
+    rows = {s: {"fno": [0.4, 0.4, 0.4], "els": [0.2, 0.2, 0.2]} for s in range(8)}
+    first, second = _summary_of(rows, [0, 1, 2, 3, 4, 5]), _summary_of(rows, [6, 7])
+    change(second)
+    with pytest.raises(ConfigError, match=message):
+        combine_summaries([first, second])
+
+
+def test_summarise_combines_run_folders_with_a_summary_of_other_seeds(toy_registry, tmp_path):
+    runs = [_run(tmp_path, seed) for seed in (0, 1, 2)]
+    part, whole, combined = (tmp_path / name for name in ("part.json", "all.json", "c.json"))
+    assert main(["summarise", str(runs[0]), str(runs[1]), "--out", str(part)]) == 0
+    assert main(["summarise", *map(str, runs), "--out", str(whole)]) == 0
+    assert main(["summarise", str(runs[2]), str(part), "--out", str(combined)]) == 0
+    expected, got = json.loads(whole.read_text()), json.loads(combined.read_text())
+    assert got["seeds"] == [2, 0, 1]
+    for label, row in expected["models"].items():
+        for metric, value in row.items():
+            for key in ("mean", "std"):
+                np.testing.assert_allclose(
+                    got["models"][label][metric][key], value[key], rtol=1e-9, atol=1e-15
+                )

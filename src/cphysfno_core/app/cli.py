@@ -133,12 +133,17 @@ def _study(args: argparse.Namespace) -> int:
 
 def _summarise(args: argparse.Namespace) -> int:
     from .study import summarise_runs
+    from .summary_combination import combine_summaries
 
-    summary = summarise_runs([Path(folder) for folder in args.runs])
+    paths = [Path(path) for path in args.runs]
+    folders = [path for path in paths if not path.is_file()]
+    parts = [summarise_runs(folders)] if folders else []
+    parts += [json.loads(path.read_text()) for path in paths if path.is_file()]
+    summary = parts[0] if len(parts) == 1 else combine_summaries(parts)
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(summary, indent=2))
-    _print_means(summary, f"{len(args.runs)} runs")
+    _print_means(summary, f"{len(summary['seeds'])} seeds")
     print(f"\nsummary: {out}")
     return 0
 
@@ -369,9 +374,16 @@ def build_parser() -> argparse.ArgumentParser:
     demands.add_argument("--model", help="a model under RUN/models (default: as fragility)")
     demands.add_argument("--out", help="the CSV to write (default RUN/demands/demands.csv)")
     demands.set_defaults(func=_demands)
-    text = "summarise finished run folders (e.g. one per seed) as study.json does"
+    text = (
+        "summarise finished run folders (e.g. one per seed) as study.json does, and combine "
+        "them with summaries of other seeds (study.json files, e.g. from another machine)"
+    )
     summary = commands.add_parser("summarise", help=text, description=text)
-    summary.add_argument("runs", nargs="+", help="folders written by cphysfno run")
+    summary.add_argument(
+        "runs",
+        nargs="+",
+        help="folders written by cphysfno run, and study.json files of disjoint seeds",
+    )
     summary.add_argument("--out", required=True, help="JSON file to write")
     summary.set_defaults(func=_summarise)
     return parser
