@@ -142,3 +142,11 @@ def test_summarise_combines_run_folders_with_a_summary_of_other_seeds(toy_regist
                 np.testing.assert_allclose(
                     got["models"][label][metric][key], value[key], rtol=1e-9, atol=1e-15
                 )
+
+
+def test_a_summary_file_that_is_not_there_is_named(tmp_path, capsys):
+    missing = tmp_path / "machine-b" / "study.json"
+    out = tmp_path / "all.json"
+    assert main(["summarise", str(missing), "--out", str(out)]) != 0
+    assert f"no summary file {missing}" in capsys.readouterr().err
+    assert not out.exists()

@@ -16,7 +16,7 @@ from ..api.registry import Registry, get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import load_config
 from ..config.precision import PRECISIONS
-from ..signals.errors import CphysfnoError
+from ..signals.errors import ConfigError, CphysfnoError
 from ..signals.progress import QUIET, show_progress
 
 
@@ -136,9 +136,13 @@ def _summarise(args: argparse.Namespace) -> int:
     from .summary_combination import combine_summaries
 
     paths = [Path(path) for path in args.runs]
-    folders = [path for path in paths if not path.is_file()]
+    files = [path for path in paths if path.suffix == ".json"]
+    missing = [str(path) for path in files if not path.is_file()]
+    if missing:
+        raise ConfigError(f"no summary file {', '.join(missing)}")
+    folders = [path for path in paths if path.suffix != ".json"]
     parts = [summarise_runs(folders)] if folders else []
-    parts += [json.loads(path.read_text()) for path in paths if path.is_file()]
+    parts += [json.loads(path.read_text()) for path in files]
     summary = parts[0] if len(parts) == 1 else combine_summaries(parts)
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
