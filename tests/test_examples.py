@@ -133,6 +133,8 @@ def test_the_cpu_configs_of_examples_2_and_3_are_the_full_ones_cut_down():
         if copies is not None:
             assert reduced["ground_motion"].pop("copies") == copies
             paper["ground_motion"].pop("copies")
+        reduced.pop("study")  # the full size alone repeats its training over seeds
+        paper.pop("study")
         assert reduced == paper
 
 
