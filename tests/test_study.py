@@ -192,6 +192,34 @@ def test_the_cli_writes_the_report_with_sweep_figures(toy_registry, tmp_path, ca
     assert "jobs = 0: at least one run must train at a time" in capsys.readouterr().err
 
 
+def test_a_study_split_between_machines_by_seeds_combines_to_the_whole(toy_registry, tmp_path):
+    path = tmp_path / "study.toml"
+    path.write_text(TOML)
+    outs = {name: tmp_path / name for name in ("whole", "machine-a", "machine-b")}
+    assert main(["study", str(path), "--out", str(outs["whole"])]) == 0
+    assert main(["study", str(path), "--out", str(outs["machine-a"]), "--seeds", "3"]) == 0
+    assert main(["study", str(path), "--out", str(outs["machine-b"]), "--seeds", "4"]) == 0
+    shares = [str(outs[name] / "study.json") for name in ("machine-a", "machine-b")]
+    assert main(["summarise", *shares, "--out", str(tmp_path / "all.json")]) == 0
+    whole = json.loads((outs["whole"] / "study.json").read_text())
+    combined = json.loads((tmp_path / "all.json").read_text())
+    assert combined["seeds"] == whole["seeds"] == [3, 4]
+    for label, row in whole["models"].items():
+        for metric, value in row.items():
+            for key in ("mean", "std"):
+                np.testing.assert_allclose(
+                    combined["models"][label][metric][key], value[key], rtol=1e-9, atol=1e-15
+                )
+    assert combined["sweeps"] == whole["sweeps"]
+
+
+def test_seeds_given_on_the_command_line_must_be_distinct(toy_registry, tmp_path, capsys):
+    path = tmp_path / "study.toml"
+    path.write_text(TOML)
+    assert main(["study", str(path), "--out", str(tmp_path / "out"), "--seeds", "3", "3"]) == 2
+    assert "seeds must be distinct and at least one, got [3, 3]" in capsys.readouterr().err
+
+
 def test_sweep_values_that_train_like_the_table_reuse_its_models(
     toy_registry, tmp_path, monkeypatch
 ):

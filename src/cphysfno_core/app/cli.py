@@ -112,10 +112,12 @@ def _stage(args: argparse.Namespace) -> int:
 
 
 def _study(args: argparse.Namespace) -> int:
-    from .study import SUMMARY, run_study, summarise_finished
+    from .study import SUMMARY, run_study, summarise_finished, with_seeds
     from .study_report import write_study_report
 
     config = load_config(args.config)
+    if args.seeds is not None:
+        config = with_seeds(config, args.seeds)
     out = Path(args.out)
     started = time.perf_counter()
     if args.summary_only:
@@ -296,6 +298,13 @@ def build_parser() -> argparse.ArgumentParser:
         type=int,
         default=1,
         help="runs trained at a time, each in its own process (default 1)",
+    )
+    study.add_argument(
+        "--seeds",
+        type=int,
+        nargs="+",
+        help="train these training seeds instead of the config's (e.g. a share of the study "
+        "on one machine; cphysfno summarise combines the shares' study.json)",
     )
     study.add_argument(
         "--summary-only",

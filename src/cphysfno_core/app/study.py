@@ -88,6 +88,22 @@ def _trains_alike(run: ExperimentConfig, table: ExperimentConfig) -> bool:
     )
 
 
+def with_seeds(config: ExperimentConfig, seeds: list[int]) -> ExperimentConfig:
+    """``config`` whose study trains ``seeds`` instead of its own (each seed's runs are the
+    same either way, so a study split between machines combines exactly).
+
+    Raises:
+        ConfigError: ``config`` has no ``[study]`` section, or ``seeds`` is empty or repeats
+            a seed.
+    """
+    if config.study is None:
+        raise ConfigError("the config has no [study] section: add one (see examples/)")
+    if not seeds or len(set(seeds)) != len(seeds):
+        raise ConfigError(f"seeds must be distinct and at least one, got {seeds}")
+    study = config.study.model_copy(update={"seeds": list(seeds)})
+    return config.model_copy(update={"study": study})
+
+
 def plan(config: ExperimentConfig, out: Path) -> list[Run]:
     """Every run of the study of ``config``, table runs first.
 
