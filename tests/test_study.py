@@ -279,3 +279,11 @@ def test_train_records_beyond_the_training_split_is_refused(toy_registry):
         _config(training={"train_records": 11})
     with pytest.raises(cp.ConfigError, match="sweep_preprocessors"):
         _config(study={"sweep_preprocessors": ["els"]})
+
+
+def test_the_time_left_is_the_pace_of_the_finished_runs_times_those_left():
+    now = iter([100.0, 700.0, 1000.0, 1900.0])  # start, then three runs finish
+    remaining = study.TimeLeft(3, clock=lambda: next(now))
+    assert remaining.one_done() == "; about 20 min left for the study (2 runs)"  # 600 s a run
+    assert remaining.one_done() == "; about 8 min left for the study (1 run)"  # 450 s a run
+    assert remaining.one_done() == ""

@@ -24,6 +24,7 @@ import json
 import os
 import shutil
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -174,10 +175,12 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
     dataset = out / DATASET
     report_run = runs[0].folder
     todo = [(n, run) for n, run in enumerate(runs, start=1) if not _finished(run)]
+    remaining = TimeLeft(len(todo))
     if jobs == 1:
         for number, run in todo:
             show_progress(f"study run {number}/{len(runs)}: {_describe(run)}")
             execute_run(run, dataset, report=run.folder == report_run)
+            show_progress(f"study run {number}/{len(runs)} finished{remaining.one_done()}")
     else:
         threads = max(1, (os.cpu_count() or 1) // jobs)
         show_progress(
@@ -191,7 +194,8 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
             def finished(key: int, seconds: float, batch=batch) -> None:
                 number, run = batch[key]
                 show_progress(
-                    f"study run {number}/{len(runs)} finished in {seconds:.0f} s: {_describe(run)}"
+                    f"study run {number}/{len(runs)} finished in {seconds:.0f} s: "
+                    f"{_describe(run)}{remaining.one_done()}"
                 )
 
             run_tasks(
@@ -209,6 +213,24 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
     summary = summarise(config, runs)
     (out / SUMMARY).write_text(json.dumps(summary, indent=2))
     return summary
+
+
+class TimeLeft:
+    """The wall time a study has left, from the pace of its runs finished so far."""
+
+    def __init__(self, runs: int, clock: Callable[[], float] = time.perf_counter) -> None:
+        self.runs, self.done, self.clock = runs, 0, clock
+        self.started = clock()
+
+    def one_done(self) -> str:
+        """Count one run as finished; ``"; about N min left"`` while runs remain, else ``""``."""
+        self.done += 1
+        left = self.runs - self.done
+        if left <= 0:
+            return ""
+        seconds = (self.clock() - self.started) / self.done * left
+        runs = f"{left} run" + ("s" if left > 1 else "")
+        return f"; about {seconds / 60:.0f} min left for the study ({runs})"
 
 
 def _finished(run: Run) -> bool:
