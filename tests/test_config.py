@@ -107,7 +107,7 @@ def test_absolute_paths_and_paths_in_a_mapping_are_kept(tmp_path):
 
 def test_the_toml_writer_reads_back_what_it_wrote():
     data = {
-        "title": 'a "quoted"\nname é',
+        "title": 'a "quoted"\nname é\t\x7f \U0001f30b',
         "path": PurePosixPath("/records/RSN1.AT2"),
         "ratio": 1e-05,
         "limits": [-math.inf, math.inf],

@@ -48,18 +48,26 @@ def _is_tables(item: Any) -> bool:
 
 
 def _key(key: str) -> str:
-    return key if _BARE_KEY.fullmatch(key) else json.dumps(key)
+    return key if _BARE_KEY.fullmatch(key) else _string(key)
+
+
+def _string(text: str) -> str:
+    """A TOML basic string: JSON's escapes, which TOML shares, with characters beyond the
+    BMP left as they are (JSON would write surrogates, which TOML refuses) and DEL escaped."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
 
 
 def _value(item: Any) -> str:
-    if isinstance(item, bool | int | str):
-        return json.dumps(item)  # TOML's basic strings take JSON's escapes
+    if isinstance(item, str):
+        return _string(item)
+    if isinstance(item, bool | int):
+        return json.dumps(item)
     if isinstance(item, float):
         if math.isnan(item):
             return "nan"
         return ("-inf" if item < 0 else "inf") if math.isinf(item) else repr(item)
     if isinstance(item, PurePath):
-        return json.dumps(str(item))
+        return _string(str(item))
     if isinstance(item, list | tuple):
         return "[" + ", ".join(_value(v) for v in item) + "]"
     if isinstance(item, dict):
