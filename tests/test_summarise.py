@@ -83,7 +83,7 @@ def _summary_of(rows, seeds, sweep_rows=None):
         "sizes": {"train": 400, "val": 100, "test": 200},
         "output_names": ["story-1", "story-2", "story-3"],
         "response_rms": [0.01, 0.02, 0.03],
-        "device": f"machine {seeds[0]}",
+        "device": f"machine {seeds[0]}, CPU (x86_64, {len(seeds)} threads)",
     }
 
 
@@ -107,7 +107,10 @@ def test_summaries_of_disjoint_seeds_combine_to_the_summary_of_all():
         assert combined["models"][label]["selected_on"] == "validation"
     assert combined["seeds"] == list(range(10))
     assert combined["sweeps"]["layers"]["rel_l2"]["fno"]["2"] == [sweep_rows[s] for s in range(10)]
-    assert combined["device"] == "machine 0, machine 6, machine 8"
+    devices = "machine 0, CPU (x86_64, 6 threads), machine 6, CPU (x86_64, 2 threads), machine 8"
+    assert combined["device"] == devices
+    parts[0]["response_rms"] = None  # written before summaries recorded the test response
+    assert combine_summaries(parts)["response_rms"] == [0.01, 0.02, 0.03]
 
 
 @pytest.mark.parametrize(

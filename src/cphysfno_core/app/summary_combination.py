@@ -8,6 +8,7 @@ runs together, without the run folders.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
@@ -15,6 +16,7 @@ import numpy as np
 from ..signals.errors import ConfigError
 
 _SAME = ("epochs", "sizes", "output_names")
+_DEVICES = re.compile(r", (?![^()]*\))")  # the commas between devices, not inside "(...)"
 
 
 def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
@@ -31,7 +33,8 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
 
     Raises:
         ConfigError: fewer than two summaries, a seed in two of them, or the summaries
-            differ in what they summarise (epochs, sizes, outputs, models, test response).
+            differ in what they summarise (epochs, sizes, outputs, models, test response
+            where both record it).
     """
     if len(summaries) < 2:
         raise ConfigError("combining needs at least two summaries")
@@ -56,7 +59,7 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
         label: _combine_model([summary["models"][label] for summary in summaries], counts, label)
         for label in first["models"]
     }
-    devices = [part for summary in summaries for part in summary["device"].split(", ")]
+    devices = [part for summary in summaries for part in _DEVICES.split(summary["device"])]
     return {
         "models": models,
         "sweeps": _combine_sweeps([summary["sweeps"] for summary in summaries]),
@@ -64,14 +67,18 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
         "epochs": first["epochs"],
         "sizes": first["sizes"],
         "output_names": first["output_names"],
-        "response_rms": first.get("response_rms"),
+        "response_rms": next(
+            (s["response_rms"] for s in summaries if s.get("response_rms") is not None), None
+        ),
         "device": ", ".join(dict.fromkeys(devices)),
     }
 
 
 def _same_response(a: list[float] | None, b: list[float] | None) -> bool:
+    """Whether two test responses agree; one that was not recorded (a summary written
+    before ``response_rms`` existed) cannot disagree."""
     if a is None or b is None:
-        return a is b
+        return True
     return bool(np.allclose(a, b, rtol=1e-9, atol=0.0))
 
 
