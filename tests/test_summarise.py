@@ -111,6 +111,9 @@ def test_summaries_of_disjoint_seeds_combine_to_the_summary_of_all():
     assert combined["device"] == devices
     parts[0]["response_rms"] = None  # written before summaries recorded the test response
     assert combine_summaries(parts)["response_rms"] == [0.01, 0.02, 0.03]
+    parts[2]["response_rms"] = [0.01, 0.02, 0.04]  # the two that record it disagree
+    with pytest.raises(ConfigError, match="summary 2 has another test response"):
+        combine_summaries(parts)
 
 
 @pytest.mark.parametrize(

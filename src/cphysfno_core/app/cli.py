@@ -126,8 +126,7 @@ def _study(args: argparse.Namespace) -> int:
     else:
         summary = run_study(config, out, jobs=args.jobs)
     report = write_study_report(config, summary, out)
-    seeds = len(summary["seeds"])
-    _print_means(summary, f"{seeds} seed" + ("s" if seeds != 1 else ""))
+    _print_means(summary)
     print(f"\nsummary: {out / 'study.json'}\nreport:  {report}")
     show_progress(f"done in {time.perf_counter() - started:.1f} s")
     return 0
@@ -149,7 +148,7 @@ def _summarise(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(summary, indent=2))
-    _print_means(summary, f"{len(summary['seeds'])} seeds")
+    _print_means(summary)
     print(f"\nsummary: {out}")
     return 0
 
@@ -227,11 +226,13 @@ def _demands(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_means(summary: dict, over: str) -> None:
+def _print_means(summary: dict) -> None:
     """Print the per-output mean relative L2 of every model of a study summary."""
     from ..reporting.report import format_table
 
     means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
+    seeds = len(summary["seeds"])
+    over = f"{seeds} seed" + ("s" if seeds != 1 else "")
     print(f"relative L2 error per output, mean of {over} (test split):")
     print(format_table(means, summary["output_names"]))
 

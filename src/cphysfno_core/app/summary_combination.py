@@ -43,6 +43,8 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
     repeated = sorted({seed for seed in seeds if seeds.count(seed) > 1})
     if repeated:
         raise ConfigError(f"seeds {repeated} are in more than one summary")
+    recorded = [s["response_rms"] for s in summaries if s.get("response_rms") is not None]
+    response = recorded[0] if recorded else None
     for i, summary in enumerate(summaries[1:], start=1):
         for key in _SAME:
             if summary[key] != first[key]:
@@ -52,8 +54,9 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
         if set(summary["models"]) != set(first["models"]):
             different = sorted(set(summary["models"]) ^ set(first["models"]))
             raise ConfigError(f"summary {i} and summary 0 differ in models {different}")
-        if not _same_response(summary.get("response_rms"), first.get("response_rms")):
-            raise ConfigError(f"summary {i} has another test response than summary 0")
+    for i, summary in enumerate(summaries):
+        if not _same_response(summary.get("response_rms"), response):
+            raise ConfigError(f"summary {i} has another test response than the others")
     counts = [len(summary["seeds"]) for summary in summaries]
     models = {
         label: _combine_model([summary["models"][label] for summary in summaries], counts, label)
@@ -67,9 +70,7 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
         "epochs": first["epochs"],
         "sizes": first["sizes"],
         "output_names": first["output_names"],
-        "response_rms": next(
-            (s["response_rms"] for s in summaries if s.get("response_rms") is not None), None
-        ),
+        "response_rms": response,
         "device": ", ".join(dict.fromkeys(devices)),
     }
 
@@ -109,9 +110,7 @@ def _combine_sweeps(sweeps: list[dict[str, Any]]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for part in sweeps:
         for name, sweep in part.items():
-            into = out.setdefault(
-                name, {**sweep, "values": [], "rel_l2": {label: {} for label in sweep["rel_l2"]}}
-            )
+            into = out.setdefault(name, {**sweep, "values": [], "rel_l2": {}})
             if sweep["field"] != into["field"]:
                 raise ConfigError(f"sweep {name} sets {sweep['field']} and {into['field']}")
             into["values"] += [v for v in sweep["values"] if v not in into["values"]]
