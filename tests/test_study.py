@@ -160,7 +160,9 @@ def test_runs_in_parallel_processes_give_the_serial_study(
                     result["sweeps"][name]["rel_l2"][label][value], seeds, rtol=1e-5
                 )
     printed = capsys.readouterr().err
-    assert "10 of 10 study runs left, 2 at a time" in printed
+    assert "10 of 10 study runs left" in printed
+    one_each = f"2 at a time with {study.threads_per_run(2)} thread"
+    assert f"2 table runs, {one_each}" in printed and f"8 sweep runs, {one_each}" in printed
     assert printed.count("finished in") == 10 and "epoch" not in printed
     assert "training toy-operator" in (parallel / "runs/size/4/seed-1/study.log").read_text()
     assert (
@@ -168,6 +170,23 @@ def test_runs_in_parallel_processes_give_the_serial_study(
         in (parallel / "runs/width/4/seed-1/study.log").read_text()
     )
     assert (parallel / "runs/table/seed-0/report.md").exists()
+
+
+def test_a_run_training_alone_gets_every_core(finished, toys_in_workers, tmp_path, capsys):
+    out, _ = finished
+    shutil.copy(out / "dataset.h5", tmp_path / "dataset.h5")
+    study.run_study(_config(study={"seeds": [0]}), tmp_path, jobs=2)
+    cores = study.threads_per_run(1)
+    printed = capsys.readouterr().err
+    assert f"1 table run, 1 at a time with {cores} thread" in printed
+    assert "sweep run" not in printed
+
+
+@pytest.mark.parametrize(
+    ("workers", "cores", "threads"), [(1, 2, 2), (2, 2, 1), (3, 2, 1), (2, 16, 8)]
+)
+def test_runs_side_by_side_share_the_cores(workers, cores, threads):
+    assert study.threads_per_run(workers, cores) == threads
 
 
 def test_the_cli_writes_the_report_with_sweep_figures(toy_registry, tmp_path, capsys):

@@ -160,9 +160,11 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
 
     Args:
         jobs: runs trained at a time. With more than one, each run trains in a worker
-            process (on a GPU they share it) with ``cpu_count // jobs`` torch threads
-            unless ``training.threads`` says otherwise, and writes its progress to
+            process (on a GPU they share it) and writes its progress to
             ``<run folder>/study.log``; the table's runs finish before the sweeps' start.
+            The cores are shared among the runs of a phase that train side by side (all
+            of them to one run when only one is left to train) unless
+            ``training.threads`` says otherwise.
     """
     if jobs < 1:
         raise ConfigError(f"jobs = {jobs}: at least one run must train at a time")
@@ -182,14 +184,19 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
             execute_run(run, dataset, report=run.folder == report_run)
             show_progress(f"study run {number}/{len(runs)} finished{remaining.one_done()}")
     else:
-        threads = max(1, (os.cpu_count() or 1) // jobs)
-        show_progress(
-            f"{len(todo)} of {len(runs)} study runs left, {jobs} at a time with {threads} "
-            f"thread{'s' if threads > 1 else ''} each; each writes its progress to "
-            f"<run folder>/{LOG}"
-        )
+        show_progress(f"{len(todo)} of {len(runs)} study runs left")
         for phase in (TABLE, None):
             batch = [(n, r) for n, r in todo if (r.group == TABLE) == (phase == TABLE)]
+            if not batch:
+                continue
+            workers = min(jobs, len(batch))
+            threads = threads_per_run(workers)
+            show_progress(
+                f"{len(batch)} {'table' if phase == TABLE else 'sweep'} run"
+                f"{'s' if len(batch) > 1 else ''}, {workers} at a time with {threads} "
+                f"thread{'s' if threads > 1 else ''} each; each writes its progress to "
+                f"<run folder>/{LOG}"
+            )
 
             def finished(key: int, seconds: float, batch=batch) -> None:
                 number, run = batch[key]
@@ -201,18 +208,24 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
             run_tasks(
                 _execute_logged,
                 range(len(batch)),
-                lambda key, batch=batch: (
+                lambda key, batch=batch, threads=threads: (
                     batch[key][1],
                     dataset,
                     batch[key][1].folder == report_run,
                     threads,
                 ),
-                DataConfig(executor="processes", workers=jobs),
+                DataConfig(executor="processes", workers=workers),
                 finished,
             )
     summary = summarise(config, runs)
     (out / SUMMARY).write_text(json.dumps(summary, indent=2))
     return summary
+
+
+def threads_per_run(workers: int, cores: int | None = None) -> int:
+    """Torch threads for each of ``workers`` runs training side by side: the machine's
+    cores (``cores``, default ``os.cpu_count()``) shared out, at least one each."""
+    return max(1, (cores or os.cpu_count() or 1) // workers)
 
 
 class TimeLeft:
