@@ -6,6 +6,7 @@ import shutil
 
 import numpy as np
 import pytest
+import torch
 import toy_components
 from toy_experiment import toy_experiment
 
@@ -175,8 +176,15 @@ def test_runs_in_parallel_processes_give_the_serial_study(
 def test_a_run_training_alone_gets_every_core(finished, toys_in_workers, tmp_path, capsys):
     out, _ = finished
     shutil.copy(out / "dataset.h5", tmp_path / "dataset.h5")
-    study.run_study(_config(study={"seeds": [0]}), tmp_path, jobs=2)
+    before = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        study.run_study(_config(study={"seeds": [0]}), tmp_path, jobs=2)
+        trained_with = torch.get_num_threads()  # a lone run trains in this process
+    finally:
+        torch.set_num_threads(before)
     cores = study.threads_per_run(1)
+    assert trained_with == cores
     printed = capsys.readouterr().err
     assert f"1 table run, 1 at a time with {cores} thread" in printed
     assert "sweep run" not in printed
