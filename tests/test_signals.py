@@ -1,7 +1,10 @@
+import os
+
 import numpy as np
 import pytest
 
 import cphysfno_core as cp
+from cphysfno_core.signals import usable_cpus
 
 
 def test_ground_motions_carry_their_time_step():
@@ -84,3 +87,13 @@ def test_rayleigh_damping_matches_its_ratio_at_both_frequencies():
     )
     with pytest.raises(cp.InputError, match="Rayleigh frequencies"):
         cp.Rayleigh.matching(0.0, 12.0, 0.05)
+
+
+def test_usable_cpus_are_those_the_process_may_run_on(monkeypatch):
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {3}, raising=False)
+    assert usable_cpus() == 1  # a container or taskset limited to one CPU
+    monkeypatch.delattr(os, "sched_getaffinity")  # a platform without affinity sets
+    monkeypatch.setattr(os, "cpu_count", lambda: 6)
+    assert usable_cpus() == 6
+    monkeypatch.setattr(os, "cpu_count", lambda: None)
+    assert usable_cpus() == 1

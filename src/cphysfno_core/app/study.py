@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import contextlib
 import json
-import os
 import shutil
 import time
 from collections.abc import Callable
@@ -37,6 +36,7 @@ from ..config.experiment import DataConfig, ExperimentConfig, parse_config
 from ..data.executors import run_tasks
 from ..data.layout import DATASET, MODELS
 from ..model.training import resolve_device
+from ..signals.cpus import usable_cpus
 from ..signals.errors import ConfigError
 from ..signals.progress import show_progress
 from . import pipeline
@@ -223,9 +223,9 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
 
 
 def threads_per_run(workers: int, cores: int | None = None) -> int:
-    """Torch threads for each of ``workers`` runs training side by side: the machine's
-    cores (``cores``, default ``os.cpu_count()``) shared out, at least one each."""
-    return max(1, (cores or os.cpu_count() or 1) // workers)
+    """Torch threads for each of ``workers`` runs training side by side: the cores
+    (``cores``, default those this process may run on) shared out, at least one each."""
+    return max(1, (cores or usable_cpus()) // workers)
 
 
 class TimeLeft:

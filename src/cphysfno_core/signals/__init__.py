@@ -6,6 +6,7 @@ as from ``cphysfno_core`` itself.
 """
 
 from .at2 import read_at2
+from .cpus import usable_cpus
 from .errors import (
     CapabilityError,
     ConfigError,
@@ -76,5 +77,6 @@ __all__ = [
     "resample",
     "response_spectrum",
     "same_step",
+    "usable_cpus",
     "velocity_displacement",
 ]

@@ -15,11 +15,11 @@
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 
 import numba
+from cphysfno_core.signals import usable_cpus
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
@@ -121,14 +121,6 @@ def bouc_wen_rate(drift_rate, hysteretic, a, delta, zeta, power, whole_power):
     )
 
 
-def cpu_count() -> int:
-    """CPUs this process may run on."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:
-        return os.cpu_count() or 1
-
-
 def run_chunks(kernel: Callable[[slice], None], n_records: int, granule: int) -> None:
     """Call ``kernel(records)`` on contiguous slices of ``range(n_records)``, in threads.
 
@@ -138,7 +130,7 @@ def run_chunks(kernel: Callable[[slice], None], n_records: int, granule: int) ->
         granule: slice lengths are multiples of this (the kernel's SIMD block).
     """
     blocks = -(-n_records // granule)
-    workers = max(1, min(cpu_count(), blocks))
+    workers = max(1, min(usable_cpus(), blocks))
     bounds = [min(n_records, granule * (blocks * i // workers)) for i in range(workers + 1)]
     chunks = [slice(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True) if hi > lo]
     if len(chunks) == 1:

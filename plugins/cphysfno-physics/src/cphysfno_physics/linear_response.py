@@ -18,7 +18,6 @@ recurrence above is stepped directly.
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numba
@@ -26,6 +25,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from cphysfno_core import LinearSystem
+from cphysfno_core.signals import usable_cpus
 
 CONDITION_LIMIT = 1e6
 """Largest condition number of the (row-equilibrated) eigenvector matrix for which the
@@ -121,7 +121,7 @@ def _eigen_response(
     n_records, n_steps = ag.shape
     out = np.empty((n_records, n_steps, output_map.shape[0]))
     blocks = -(-n_records // LANES)
-    workers = max(1, min(_cpu_count(), blocks))
+    workers = max(1, min(usable_cpus(), blocks))
     bounds = [min(n_records, LANES * (blocks * i // workers)) for i in range(workers + 1)]
     chunks = [slice(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True)]
     with ThreadPoolExecutor(max_workers=workers) as pool:
@@ -188,14 +188,6 @@ def _write_window(window, length, out):
         for kept in range(length):
             for o in range(out.shape[2]):
                 out[lane, kept, o] = window[kept, o, lane]
-
-
-def _cpu_count() -> int:
-    """CPUs this process may run on."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:
-        return os.cpu_count() or 1
 
 
 def _recurrence_response(
