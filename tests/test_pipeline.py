@@ -89,6 +89,24 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
         assert f"figures/{figure}.png" in report
 
 
+def test_the_models_chosen_are_the_only_ones_trained_and_evaluated(toy_registry, tmp_path):
+    out, config = tmp_path / "run", str(_config(tmp_path))
+    composite = "c-phystoy-operator-toy-linear"
+    assert main(["run", config, "--out", str(out), "--models", composite]) == 0
+    assert sorted(p.name for p in (out / "models").iterdir()) == [composite, f"refined-{composite}"]
+    document = json.loads((out / "metrics.json").read_text())
+    assert set(document["models"]) == {composite, f"refined-{composite}", "physics-toy-linear"}
+    assert json.loads((out / "config.json").read_text())["output"]["models"] == [composite]
+    assert main(["evaluate", config, "--out", str(out)]) == 2  # every model: the baseline too
+    assert main(["evaluate", config, "--out", str(out), "--models", composite]) == 0
+    with pytest.raises(cp.ConfigError, match=r"\['refined-c-phystoy-operator-toy-linear'\] are"):
+        pipeline.model_labels(
+            cp.parse_config(
+                {**cp.load_config(config).to_dict(), "output": {"models": [f"refined-{composite}"]}}
+            )
+        )
+
+
 def test_every_operator_of_the_config_gets_every_model(toy_registry, tmp_path):
     text = CONFIG.format(executor="serial").replace(
         '[operator]\nname = "toy-operator"\nwidth = 6\n',

@@ -240,6 +240,57 @@ def test_a_study_split_between_machines_by_seeds_combines_to_the_whole(toy_regis
     assert combined["sweeps"] == whole["sweeps"]
 
 
+def test_a_study_split_between_machines_by_models_combines_to_the_whole(
+    toy_registry, tmp_path, capsys
+):
+    path = tmp_path / "study.toml"
+    path.write_text(
+        toy_experiment(
+            n_steps=60,
+            operator={"width": 4},
+            refiner={"name": "toy-refiner"},
+            data={"n_train": 8, "n_val": 3, "n_test": 4, "chunk_size": 8},
+            training={"epochs": 1, "batch_size": 4},
+            study={"seeds": [3, 4]},
+        )
+    )
+    composite = "c-phystoy-operator-toy-linear"
+    shares = {
+        "whole": [],
+        "baseline": ["--models", "toy-operator"],
+        "composite-3": ["--models", composite, "--seeds", "3"],
+        "composite-4": ["--models", composite, "--seeds", "4"],
+    }
+    for name, options in shares.items():
+        assert main(["study", str(path), "--out", str(tmp_path / name), *options]) == 0
+    summary = {name: json.loads((tmp_path / name / "study.json").read_text()) for name in shares}
+    assert set(summary["baseline"]["models"]) == {"toy-operator", "physics-toy-linear"}
+    assert set(summary["composite-3"]["models"]) == {
+        composite,
+        f"refined-{composite}",
+        "physics-toy-linear",
+    }
+    files = [str(tmp_path / name / "study.json") for name in list(shares)[1:]]
+    assert main(["summarise", *files, "--out", str(tmp_path / "all.json")]) == 0
+    combined = json.loads((tmp_path / "all.json").read_text())
+    whole = summary["whole"]
+    assert combined["seeds"] == whole["seeds"] == [3, 4]
+    assert set(combined["models"]) == set(whole["models"])
+    for label, row in whole["models"].items():
+        for metric, value in row.items():
+            for key in ("mean", "std"):
+                np.testing.assert_allclose(
+                    combined["models"][label][metric][key], value[key], rtol=1e-9, atol=1e-15
+                )
+    capsys.readouterr()
+    assert main(["summarise", *files[:2], "--out", str(tmp_path / "part.json")]) != 0
+    message = capsys.readouterr().err
+    assert "the models end on different seeds" in message
+    assert f"(toy-operator [3, 4]; {composite} [3]; refined-{composite} [3])" in message
+    assert main(["study", str(path), "--out", str(tmp_path / "x"), "--models", "els"]) == 2
+    assert "output.models: ['els'] are not models this config trains" in capsys.readouterr().err
+
+
 def test_seeds_given_on_the_command_line_must_be_distinct(toy_registry, tmp_path, capsys):
     path = tmp_path / "study.toml"
     path.write_text(TOML)
@@ -291,6 +342,7 @@ def test_sweep_values_that_train_like_the_table_reuse_its_models(
             {"study": {"sweeps": {"w": {"field": "optimizer.rate", "values": [1]}}}},
             "no \\[optimizer\\] section",
         ),
+        ({"output": {"models": ["toy-operator"]}}, "this study also has sweeps"),
     ],
 )
 def test_ill_posed_studies_are_refused_before_any_simulation(

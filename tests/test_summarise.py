@@ -116,12 +116,44 @@ def test_summaries_of_disjoint_seeds_combine_to_the_summary_of_all():
         combine_summaries(parts)
 
 
+def test_summaries_of_other_models_on_the_same_seeds_combine_to_the_summary_of_all():
+    rng = np.random.default_rng(4)
+    labels = ("fno", "c-physfno-els", "physics-els")
+    rows = {s: {label: rng.uniform(0.1, 0.5, 3) for label in labels} for s in range(4)}
+    rows = {s: {**row, "physics-els": np.full(3, 0.6)} for s, row in rows.items()}
+
+    def share(models, seeds):
+        summary = _summary_of(rows, seeds)
+        summary["models"] = {label: summary["models"][label] for label in models}
+        return summary
+
+    parts = [
+        share(["fno", "physics-els"], [0, 1]),
+        share(["c-physfno-els", "physics-els"], [0, 1]),
+        share(labels, [2, 3]),
+    ]
+    combined, whole = combine_summaries(parts), _summary_of(rows, [0, 1, 2, 3])
+    assert combined["seeds"] == [0, 1, 2, 3]
+    for label in labels:
+        for key in ("mean", "std"):
+            np.testing.assert_allclose(
+                combined["models"][label]["rel_l2"][key],
+                whole["models"][label]["rel_l2"][key],
+                rtol=1e-12,
+                atol=1e-15,
+            )
+    # the physics alone does not depend on the seed: another row is other data
+    parts[1]["models"]["physics-els"]["rel_l2"]["mean"][0] = 0.7
+    with pytest.raises(ConfigError, match="physics-els differs between the summaries"):
+        combine_summaries(parts)
+
+
 @pytest.mark.parametrize(
     "change, message",
     [
         (lambda s: s.update(seeds=[5, 6]), r"seeds \[5\] are in more than one summary"),
         (lambda s: s.update(sizes={"train": 300, "val": 100, "test": 200}), "summary 1 has sizes"),
-        (lambda s: s["models"].pop("fno"), r"differ in models \['fno'\]"),
+        (lambda s: s["models"].pop("fno"), r"end on different seeds \(fno \[0, 1, 2, 3, 4, 5\]"),
         (lambda s: s.update(response_rms=[0.01, 0.02, 0.04]), "another test response"),
         (lambda s: s["models"]["fno"].update(selected_on="test"), "fno: selected_on differs"),
     ],

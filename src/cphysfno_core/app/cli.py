@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..api.registry import Registry, get_registry
 from ..config.allocator import tune_memory
-from ..config.experiment import load_config
+from ..config.experiment import ExperimentConfig, load_config
 from ..config.precision import PRECISIONS
 from ..signals.errors import ConfigError, CphysfnoError
 from ..signals.progress import QUIET, show_progress
@@ -87,7 +87,7 @@ def _stage(args: argparse.Namespace) -> int:
     from ..reporting.report import format_table, write_report
     from . import pipeline
 
-    config = load_config(args.config)
+    config = _with_models(load_config(args.config), getattr(args, "models", None))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
@@ -115,7 +115,7 @@ def _study(args: argparse.Namespace) -> int:
     from .study import SUMMARY, run_study, summarise_finished, with_seeds
     from .study_report import write_study_report
 
-    config = load_config(args.config)
+    config = _with_models(load_config(args.config), args.models)
     if args.seeds is not None:
         config = with_seeds(config, args.seeds)
     out = Path(args.out)
@@ -130,6 +130,13 @@ def _study(args: argparse.Namespace) -> int:
     print(f"\nsummary: {out / 'study.json'}\nreport:  {report}")
     show_progress(f"done in {time.perf_counter() - started:.1f} s")
     return 0
+
+
+def _with_models(config: ExperimentConfig, models: list[str] | None) -> ExperimentConfig:
+    """``config`` training only ``models`` (``output.models``); as it is for None."""
+    if models is None:
+        return config
+    return config.model_copy(update={"output": config.output.model_copy(update={"models": models})})
 
 
 def _summarise(args: argparse.Namespace) -> int:
@@ -286,6 +293,8 @@ def build_parser() -> argparse.ArgumentParser:
                 action="store_true",
                 help="keep trained models and continue an interrupted one from its checkpoint",
             )
+        if name != "generate":
+            _models_option(stage)
         stage.set_defaults(func=_stage)
     text = (
         "run the [study] of a config: every seed and sweep, resuming where it stopped; "
@@ -307,6 +316,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="train these training seeds instead of the config's (e.g. a share of the study "
         "on one machine; cphysfno summarise combines the shares' study.json)",
     )
+    _models_option(study)
     study.add_argument(
         "--summary-only",
         action="store_true",
@@ -401,6 +411,16 @@ def build_parser() -> argparse.ArgumentParser:
     summary.add_argument("--out", required=True, help="JSON file to write")
     summary.set_defaults(func=_summarise)
     return parser
+
+
+def _models_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--models",
+        nargs="+",
+        metavar="LABEL",
+        help="only these of the config's models, e.g. fno c-physfno-els (output.models: a "
+        "share of the work, on one machine; cphysfno summarise combines the shares)",
+    )
 
 
 def configure_output(verbose: int, quiet: bool) -> Callable[[], None]:

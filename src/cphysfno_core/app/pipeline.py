@@ -30,24 +30,51 @@ from ..reporting.evaluation import (
     interval_coverage_scores,
     metric_row,
 )
-from ..signals.errors import DatasetError
+from ..signals.errors import ConfigError, DatasetError
 from ..signals.progress import show_progress
 
 
 def model_labels(config: ExperimentConfig) -> list[str]:
-    """The labels ``train`` produces for ``config``, in training order."""
+    """The labels ``train`` produces for ``config``, in training order (those of
+    ``output.models`` only, where it names some).
+
+    Raises:
+        ConfigError: ``output.models`` names a model the config does not train.
+    """
     labels = []
-    for operator in config.operator:
-        labels += [model_label(operator.name)] if config.output.baseline else []
-        for pp in config.preprocessor:
-            for form in config.formulation.forms():
-                residual = bool(form.residual)
-                labels.append(model_label(operator.name, pp.name, residual=residual))
-                if config.refiner is not None:
-                    labels.append(
-                        model_label(operator.name, pp.name, refined=True, residual=residual)
-                    )
+    for variant in _variants(config):
+        labels.append(_label(*variant))
+        if variant[1] is not None and config.refiner is not None:
+            labels.append(_label(*variant, refined=True))
     return labels
+
+
+def _label(operator: Any, pp: Any, form: Any, refined: bool = False) -> str:
+    residual = form is not None and bool(form.residual)
+    return model_label(operator.name, pp and pp.name, refined=refined, residual=residual)
+
+
+def _variants(config: ExperimentConfig) -> list[tuple[Any, Any, Any]]:
+    """``(operator, preprocessor, formulation)`` of every model trained (not refined) for
+    ``config`` in training order, the baseline with preprocessor and formulation None; only
+    those ``output.models`` names, where it names some."""
+    variants: list[Any] = [(None, None)] if config.output.baseline else []
+    variants += [(pp, form) for pp in config.preprocessor for form in config.formulation.forms()]
+    every = {
+        _label(operator, pp, form): (operator, pp, form)
+        for operator in config.operator
+        for pp, form in variants
+    }
+    chosen = config.output.models
+    if chosen is None:
+        return list(every.values())
+    unknown = [label for label in chosen if label not in every]
+    if unknown:
+        raise ConfigError(
+            f"output.models: {unknown} are not models this config trains; it trains "
+            f"{list(every)} (a refined model comes with its own)"
+        )
+    return [variant for label, variant in every.items() if label in chosen]
 
 
 def generate(config: ExperimentConfig, out: str | Path) -> Path:
@@ -69,7 +96,8 @@ def train(
     dataset: str | Path | None = None,
 ) -> dict[str, Path]:
     """Stage 2: for each operator, train the baseline and one C-Phys model per
-    preprocessor; save each model.
+    preprocessor (those of ``config.output.models`` only, where it names some); save each
+    model.
 
     Every epoch writes ``models/<label>.checkpoint.pt``; with ``resume``, models already
     saved are kept and an interrupted one continues from its checkpoint. ``dataset``
@@ -85,9 +113,7 @@ def train(
     train_gm, val_gm = data.motions("train")[kept], data.motions("val")
     train_u, val_u = data.targets("train")[kept], data.targets("val")
     saved: dict[str, Path] = {}
-    variants: list[Any] = [(None, None)] if config.output.baseline else []
-    variants += [(pp, form) for pp in config.preprocessor for form in config.formulation.forms()]
-    for operator, (pp, form) in ((o, v) for o in config.operator for v in variants):
+    for operator, pp, form in _variants(config):
         model = CompositeModel(
             operator,
             structure=structure,

@@ -109,12 +109,17 @@ def plan(config: ExperimentConfig, out: Path) -> list[Run]:
     """Every run of the study of ``config``, table runs first.
 
     Raises:
-        ConfigError: ``config`` has no ``[study]`` section, or a sweep sets a field that
-            does not validate.
+        ConfigError: ``config`` has no ``[study]`` section, a sweep sets a field that
+            does not validate, or ``output.models`` chooses models of a study with sweeps.
     """
     if config.study is None:
         raise ConfigError("the config has no [study] section: add one (see examples/)")
     study = config.study
+    if config.output.models is not None and study.sweeps:
+        raise ConfigError(
+            "output.models trains a share of a study's table; this study also has sweeps, "
+            "which train every model: run the share without the sweeps, or every model"
+        )
     runs = []
     base = config.to_dict()
     base.pop("study")

@@ -1,9 +1,11 @@
-"""Study summaries of disjoint seeds (say, run on two machines) combined into one.
+"""Study summaries of disjoint seeds or models (say, run on two machines) combined into one.
 
 A ``study.json`` keeps per model and output the mean and the standard deviation over its
 seeds (``ddof = 0``); with the seed counts these give the sums of the values and of their
 squares, so summaries of disjoint seed sets combine to exactly the summary of all the
-runs together, without the run folders.
+runs together, without the run folders. Summaries may also hold different models of the
+same seeds (shares of a study by model, ``cphysfno study --models``): each model combines
+the summaries that hold it, and at the end every model must stand on the same seeds.
 """
 
 from __future__ import annotations
@@ -16,33 +18,34 @@ import numpy as np
 from ..signals.errors import ConfigError
 
 _SAME = ("epochs", "sizes", "output_names")
+PHYSICS = "physics-"  # the label of a physics preprocessor's row begins so
 _DEVICES = re.compile(r", (?![^()]*\))")  # the commas between devices, not inside "(...)"
 
 
 def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
-    """One summary of the union of the seeds of ``summaries``.
+    """One summary of the union of the seeds and models of ``summaries``.
 
     Args:
         summaries: ``study.json`` documents (or ``cphysfno summarise`` outputs) of the same
-            experiment with disjoint ``seeds``: same epochs, split sizes, outputs and models.
+            experiment (same epochs, split sizes, outputs and test response): per model, the
+            summaries holding it have disjoint ``seeds``; the rows of the physics
+            preprocessors alone (``physics-*``), which do not depend on the seed, are the
+            same in all.
 
     Returns:
         The schema of ``study.json``: per model and metric the mean and standard deviation
-        (``ddof = 0``) over all the seeds, equal to what :func:`summarise` gives on all the
-        runs; sweeps' per-seed errors joined; seeds in the order given; the devices of all.
+        (``ddof = 0``) over all its seeds, equal to what :func:`summarise` gives on all the
+        runs; sweeps' per-seed errors joined; seeds in the order first given; the devices
+        of all.
 
     Raises:
-        ConfigError: fewer than two summaries, a seed in two of them, or the summaries
-            differ in what they summarise (epochs, sizes, outputs, models, test response
-            where both record it).
+        ConfigError: fewer than two summaries, a model's seed in two of them, models that
+            end on different seeds, or summaries that differ in what they summarise
+            (a physics row included).
     """
     if len(summaries) < 2:
         raise ConfigError("combining needs at least two summaries")
     first = summaries[0]
-    seeds = [seed for summary in summaries for seed in summary["seeds"]]
-    repeated = sorted({seed for seed in seeds if seeds.count(seed) > 1})
-    if repeated:
-        raise ConfigError(f"seeds {repeated} are in more than one summary")
     recorded = [s["response_rms"] for s in summaries if s.get("response_rms") is not None]
     response = recorded[0] if recorded else None
     for i, summary in enumerate(summaries[1:], start=1):
@@ -51,28 +54,64 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
                 raise ConfigError(
                     f"summary {i} has {key} {summary[key]}, summary 0 has {first[key]}"
                 )
-        if set(summary["models"]) != set(first["models"]):
-            different = sorted(set(summary["models"]) ^ set(first["models"]))
-            raise ConfigError(f"summary {i} and summary 0 differ in models {different}")
     for i, summary in enumerate(summaries):
         if not _same_response(summary.get("response_rms"), response):
             raise ConfigError(f"summary {i} has another test response than the others")
-    counts = [len(summary["seeds"]) for summary in summaries]
-    models = {
-        label: _combine_model([summary["models"][label] for summary in summaries], counts, label)
-        for label in first["models"]
-    }
+    labels = dict.fromkeys(label for summary in summaries for label in summary["models"])
+    models, seeds_of = {}, {}
+    for label in labels:
+        holding = [summary for summary in summaries if label in summary["models"]]
+        if label.startswith(PHYSICS):
+            models[label] = _physics_row(holding, label)
+            continue
+        seeds = [seed for summary in holding for seed in summary["seeds"]]
+        repeated = sorted({seed for seed in seeds if seeds.count(seed) > 1})
+        if repeated:
+            raise ConfigError(f"{label}: seeds {repeated} are in more than one summary")
+        counts = [len(summary["seeds"]) for summary in holding]
+        rows = [summary["models"][label] for summary in holding]
+        models[label] = _combine_model(rows, counts, label)
+        seeds_of[label] = seeds
+    _check_same_seeds(seeds_of)
     devices = [part for summary in summaries for part in _DEVICES.split(summary["device"])]
     return {
         "models": models,
         "sweeps": _combine_sweeps([summary["sweeps"] for summary in summaries]),
-        "seeds": seeds,
+        "seeds": list(dict.fromkeys(seed for summary in summaries for seed in summary["seeds"])),
         "epochs": first["epochs"],
         "sizes": first["sizes"],
         "output_names": first["output_names"],
         "response_rms": response,
         "device": ", ".join(dict.fromkeys(devices)),
     }
+
+
+def _physics_row(holding: list[dict[str, Any]], label: str) -> dict[str, Any]:
+    """The row of a physics preprocessor alone, which no training seed changes: the same
+    in every summary of the same data (raises ConfigError where it is not)."""
+    first = holding[0]["models"][label]
+    for summary in holding[1:]:
+        row = summary["models"][label]
+        if row.keys() != first.keys() or not all(map(_same_value, row.values(), first.values())):
+            raise ConfigError(f"{label} differs between the summaries: not the same data")
+    return first
+
+
+def _same_value(a: Any, b: Any) -> bool:
+    if isinstance(a, dict) and set(a) == {"mean", "std"}:
+        return bool(np.allclose(a["mean"], b["mean"], rtol=1e-9, atol=0.0))
+    return a == b
+
+
+def _check_same_seeds(seeds_of: dict[str, list[int]]) -> None:
+    """Raise ConfigError unless every model stands on the same set of seeds."""
+    sets = {label: sorted(seeds) for label, seeds in seeds_of.items()}
+    if len({tuple(seeds) for seeds in sets.values()}) > 1:
+        listed = "; ".join(f"{label} {seeds}" for label, seeds in sets.items())
+        raise ConfigError(
+            f"the models end on different seeds ({listed}): combine the shares that "
+            "complete each model's seeds"
+        )
 
 
 def _same_response(a: list[float] | None, b: list[float] | None) -> bool:

@@ -161,6 +161,13 @@ class OutputConfig(_Strict):
     """What the run trains and writes."""
 
     baseline: bool = Field(True, description="also train the plain operator on [a_g, t]")
+    models: list[str] | None = Field(
+        None,
+        min_length=1,
+        description="train and evaluate only these of the config's models, by label "
+        "('fno', 'c-physfno-els'; a refined model comes with its own): a share of a study "
+        "(default: every model)",
+    )
     figures: bool = True
     paper_reference: Literal["example1", "example2", "example3", "none"] = Field(
         "none", description="print this paper example's table beside ours (Tables 1, 3, 5)"
