@@ -50,3 +50,13 @@ def test_an_interrupted_run_terminates_its_workers(toys_in_workers, tmp_path):
     assert time.perf_counter() - started < 7.0
     time.sleep(max(0.0, 10.0 - (time.perf_counter() - started)))
     assert not list(tmp_path.glob("finished-*"))
+
+
+@pytest.mark.parametrize("cpus", [1, 2])
+def test_the_default_workers_are_the_cpus_this_process_may_run_on(monkeypatch, cpus):
+    monkeypatch.setattr("cphysfno_core.data.executors.usable_cpus", lambda: cpus)
+    pids = {}
+    run_tasks(os.getpid, [0, 1], lambda key: (), DataConfig(), pids.__setitem__)
+    # one CPU: the chunks run in this process; two: in two worker processes
+    in_this_process = [pid == os.getpid() for pid in pids.values()]
+    assert in_this_process == [cpus == 1] * 2

@@ -64,7 +64,10 @@ class DataConfig(_Strict):
     chunk_size: int = Field(100, gt=0, description="records per simulation task")
     executor: Literal["serial", "processes", "dask"] = "processes"
     workers: int | None = Field(
-        None, gt=0, description="local processes or LocalCluster workers; default: CPU count"
+        None,
+        gt=0,
+        description="local processes or LocalCluster workers; default: the CPUs this "
+        "process may run on",
     )
     address: str | None = Field(
         None, description="address of a running dask.distributed scheduler (executor 'dask')"

@@ -13,6 +13,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from ..config.experiment import DataConfig
+from ..signals.cpus import usable_cpus
 from ..signals.errors import ConfigError, check_main_guard
 
 
@@ -53,7 +54,7 @@ def _dask_client(settings: DataConfig):
         return
     import dask
 
-    workers = settings.workers or multiprocessing.cpu_count()
+    workers = settings.workers or usable_cpus()
     # Non-daemonic workers, so that a structure may run its records in child processes.
     with (
         dask.config.set({"distributed.worker.daemon": False}),
@@ -91,7 +92,7 @@ def run_tasks(
     any other failure propagates. When a task fails or the caller is interrupted, local
     worker processes are terminated rather than left to finish their tasks.
     """
-    workers = settings.workers or multiprocessing.cpu_count()
+    workers = settings.workers or usable_cpus()
     if settings.executor == "serial" or (
         settings.executor == "processes" and (len(keys) <= 1 or workers == 1)
     ):
