@@ -18,7 +18,7 @@ import numpy as np
 from ..signals.errors import ConfigError
 
 _SAME = ("epochs", "sizes", "output_names")
-PHYSICS = "physics-"  # the label of a physics preprocessor's row begins so
+_PHYSICS = "physics-"  # the label of a physics preprocessor's row begins so
 _DEVICES = re.compile(r", (?![^()]*\))")  # the commas between devices, not inside "(...)"
 
 
@@ -61,7 +61,7 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
     models, seeds_of = {}, {}
     for label in labels:
         holding = [summary for summary in summaries if label in summary["models"]]
-        if label.startswith(PHYSICS):
+        if label.startswith(_PHYSICS):
             models[label] = _physics_row(holding, label)
             continue
         seeds = [seed for summary in holding for seed in summary["seeds"]]
