@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
-from cphysfno_core.signals import usable_cpus
+from cphysfno_core.signals import record_slices, run_in_slices, usable_cpus
 
 
 def test_ground_motions_carry_their_time_step():
@@ -97,3 +97,29 @@ def test_usable_cpus_are_those_the_process_may_run_on(monkeypatch):
     assert usable_cpus() == 6
     monkeypatch.setattr(os, "cpu_count", lambda: None)
     assert usable_cpus() == 1
+
+
+@pytest.mark.parametrize(
+    "n_records, granule, workers, expected",
+    [
+        (100, 8, 2, [(0, 48), (48, 100)]),  # 13 granules: 6 and 7, cut on a granule
+        (5, 8, 4, [(0, 5)]),  # fewer granules than workers: one slice
+        (10, 1, 3, [(0, 3), (3, 6), (6, 10)]),
+        (16, 8, 4, [(0, 8), (8, 16)]),
+    ],
+)
+def test_record_slices_cover_the_records_on_granule_bounds(n_records, granule, workers, expected):
+    slices = record_slices(n_records, granule, workers)
+    assert [(s.start, s.stop) for s in slices] == expected
+
+
+def test_run_in_slices_calls_the_kernel_on_every_record_once(monkeypatch):
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1, 2}, raising=False)
+    seen = np.zeros(37, dtype=int)
+
+    def kernel(rows: slice) -> None:
+        assert rows.start % 4 == 0
+        seen[rows] += 1
+
+    run_in_slices(kernel, 37, 4)
+    np.testing.assert_array_equal(seen, 1)

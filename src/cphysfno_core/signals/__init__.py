@@ -6,7 +6,7 @@ as from ``cphysfno_core`` itself.
 """
 
 from .at2 import read_at2
-from .cpus import usable_cpus
+from .cpus import record_slices, run_in_slices, usable_cpus
 from .errors import (
     CapabilityError,
     ConfigError,
@@ -74,8 +74,10 @@ __all__ = [
     "peak_ground_acceleration",
     "peak_ground_velocity",
     "read_at2",
+    "record_slices",
     "resample",
     "response_spectrum",
+    "run_in_slices",
     "same_step",
     "usable_cpus",
     "velocity_displacement",

@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from cphysfno_core.signals import run_in_slices
 
-from .native import JIT, bouc_wen_rate, local_array, run_chunks, size_marker, whole_power
+from .native import JIT, bouc_wen_rate, local_array, size_marker, whole_power
 from .reduced import ReducedModel
 
 LANES = 32
@@ -90,7 +91,7 @@ def integrate_rk4(
         outputs = (displacement[rows], drift[rows], shear[rows], finite[rows])
         _rk4_kernel(ag[rows], *coefficients, *sizes, *outputs)
 
-    run_chunks(kernel, n_records, LANES)
+    run_in_slices(kernel, n_records, LANES)
     return displacement, drift, shear, finite
 
 

@@ -14,9 +14,9 @@ from functools import cache
 import numba
 import numpy as np
 from cphysfno_core import LawFunctions
+from cphysfno_core.signals import run_in_slices
 
 from .chain import StoryChain
-from .native import run_chunks
 
 FAST = {"nogil": True, "error_model": "numpy"}
 """Compile options of a kernel made for a law: no disk cache (it cannot hold a kernel made
@@ -72,7 +72,7 @@ def integrate_chain(
             finite[rows],
         )
 
-    run_chunks(run, n_records, 1)
+    run_in_slices(run, n_records, 1)
     return displacement, drift, shear, finite
 
 

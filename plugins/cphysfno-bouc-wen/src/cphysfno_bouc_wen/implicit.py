@@ -23,8 +23,9 @@ from typing import NamedTuple
 import numba
 import numpy as np
 from cphysfno_core import CphysfnoError
+from cphysfno_core.signals import run_in_slices
 
-from .native import JIT, hysteretic_power, run_chunks, whole_power
+from .native import JIT, hysteretic_power, whole_power
 from .reduced import ReducedModel
 
 _R15 = math.sqrt(15.0)
@@ -105,7 +106,7 @@ def integrate_gauss(
         outputs = (displacement[rows], drift[rows], shear[rows], failed_at[rows])
         _gauss_kernel(ag[rows], maps, fixed, bouc_wen, newton, outputs)
 
-    run_chunks(kernel, n_records, 1)
+    run_in_slices(kernel, n_records, 1)
     failed = np.flatnonzero(failed_at >= 0)
     if failed.size:
         record = int(failed[0])

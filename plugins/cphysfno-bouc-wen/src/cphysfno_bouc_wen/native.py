@@ -9,17 +9,13 @@
 - :func:`size_marker`, :func:`whole_power` — sizes passed as tuple lengths, which makes them
   part of a kernel's argument types (compile-time constants).
 - :func:`bouc_wen_rate`, :func:`hysteretic_power` — the Bouc-Wen law of one story.
-- :func:`run_chunks` — a kernel run over contiguous chunks of records, one thread per core.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 
 import numba
-from cphysfno_core.signals import usable_cpus
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
@@ -119,22 +115,3 @@ def bouc_wen_rate(drift_rate, hysteretic, a, delta, zeta, power, whole_power):
     return drift_rate * (a - zeta * scaled * magnitude) - delta * abs(drift_rate) * scaled * (
         hysteretic
     )
-
-
-def run_chunks(kernel: Callable[[slice], None], n_records: int, granule: int) -> None:
-    """Call ``kernel(records)`` on contiguous slices of ``range(n_records)``, in threads.
-
-    Args:
-        kernel: works on the records of one slice; it must release the GIL.
-        n_records: how many records there are.
-        granule: slice lengths are multiples of this (the kernel's SIMD block).
-    """
-    blocks = -(-n_records // granule)
-    workers = max(1, min(usable_cpus(), blocks))
-    bounds = [min(n_records, granule * (blocks * i // workers)) for i in range(workers + 1)]
-    chunks = [slice(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True) if hi > lo]
-    if len(chunks) == 1:
-        kernel(chunks[0])
-        return
-    with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
-        list(pool.map(kernel, chunks))

@@ -18,14 +18,12 @@ recurrence above is stepped directly.
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
-
 import numba
 import numpy as np
 from scipy.linalg import expm
 
 from cphysfno_core import LinearSystem
-from cphysfno_core.signals import usable_cpus
+from cphysfno_core.signals import run_in_slices
 
 CONDITION_LIMIT = 1e6
 """Largest condition number of the (row-equilibrated) eigenvector matrix for which the
@@ -120,12 +118,9 @@ def _eigen_response(
     mapped = np.ascontiguousarray(np.stack([to_output.real, -to_output.imag]))
     n_records, n_steps = ag.shape
     out = np.empty((n_records, n_steps, output_map.shape[0]))
-    blocks = -(-n_records // LANES)
-    workers = max(1, min(usable_cpus(), blocks))
-    bounds = [min(n_records, LANES * (blocks * i // workers)) for i in range(workers + 1)]
-    chunks = [slice(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True)]
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        list(pool.map(lambda rows: _modal_kernel(ag[rows], recurrence, mapped, out[rows]), chunks))
+    run_in_slices(
+        lambda rows: _modal_kernel(ag[rows], recurrence, mapped, out[rows]), n_records, LANES
+    )
     return out
 
 
