@@ -261,16 +261,18 @@ def test_a_study_split_between_machines_by_models_combines_to_the_whole(
         "composite-3": ["--models", composite, "--seeds", "3"],
         "composite-4": ["--models", composite, "--seeds", "4"],
     }
-    for name, options in shares.items():
-        assert main(["study", str(path), "--out", str(tmp_path / name), *options]) == 0
-    summary = {name: json.loads((tmp_path / name / "study.json").read_text()) for name in shares}
+    for name, options in shares.items():  # the shares in one folder: one dataset for all
+        out = tmp_path / ("whole" if name == "whole" else "shares")
+        assert main(["study", str(path), "--out", str(out), *options]) == 0
+        shutil.copy(out / "study.json", tmp_path / f"{name}.json")
+    summary = {name: json.loads((tmp_path / f"{name}.json").read_text()) for name in shares}
     assert set(summary["baseline"]["models"]) == {"toy-operator", "physics-toy-linear"}
     assert set(summary["composite-3"]["models"]) == {
         composite,
         f"refined-{composite}",
         "physics-toy-linear",
     }
-    files = [str(tmp_path / name / "study.json") for name in list(shares)[1:]]
+    files = [str(tmp_path / f"{name}.json") for name in list(shares)[1:]]
     assert main(["summarise", *files, "--out", str(tmp_path / "all.json")]) == 0
     combined = json.loads((tmp_path / "all.json").read_text())
     whole = summary["whole"]

@@ -11,8 +11,10 @@ run into its own folder::
 ``--jobs N`` trains N runs at a time in worker processes, each logging to its folder's
 ``study.log``.
 
-A run whose ``metrics.json`` exists is done; an interrupted run continues from its
-checkpoints, so the same command resumes a study where it stopped. A sweep value that
+A run whose ``metrics.json`` holds every model it trains is done; an interrupted run
+continues from its checkpoints, so the same command resumes a study where it stopped, and
+shares of a study by model (``output.models``) can run one after another in one folder,
+each training its own models on the dataset generated once. A sweep value that
 leaves the models as the table trains them (the table's own width, all training records)
 is not trained again: its run copies the table run's models of the same seed.
 """
@@ -252,7 +254,13 @@ class TimeLeft:
 
 
 def _finished(run: Run) -> bool:
-    return (run.folder / "metrics.json").exists()
+    """Whether ``run`` is evaluated for every model its config trains: a folder evaluated
+    for other models of the same seed (an earlier share of the study) is not finished."""
+    metrics = run.folder / "metrics.json"
+    if not metrics.exists():
+        return False
+    evaluated = json.loads(metrics.read_text())["models"]
+    return all(label in evaluated for label in pipeline.model_labels(run.config))
 
 
 def _describe(run: Run) -> str:
