@@ -106,6 +106,7 @@ def test_usable_cpus_are_those_the_process_may_run_on(monkeypatch):
         (5, 8, 4, [(0, 5)]),  # fewer granules than workers: one slice
         (10, 1, 3, [(0, 3), (3, 6), (6, 10)]),
         (16, 8, 4, [(0, 8), (8, 16)]),
+        (0, 8, 2, []),
     ],
 )
 def test_record_slices_cover_the_records_on_granule_bounds(n_records, granule, workers, expected):
@@ -122,4 +123,6 @@ def test_run_in_slices_calls_the_kernel_on_every_record_once(monkeypatch):
         seen[rows] += 1
 
     run_in_slices(kernel, 37, 4)
+    np.testing.assert_array_equal(seen, 1)
+    run_in_slices(kernel, 0, 4)  # no records: the kernel is not called
     np.testing.assert_array_equal(seen, 1)

@@ -35,7 +35,7 @@ def record_slices(n_records: int, granule: int, workers: int | None = None) -> l
 
 def run_in_slices(kernel: Callable[[slice], None], n_records: int, granule: int) -> None:
     """Call ``kernel(records)`` on the :func:`record_slices` of ``range(n_records)``, one
-    thread each (none started for a single slice).
+    thread each (none started for a single slice, nothing called for no records).
 
     Args:
         kernel: works on the records of one slice; it must release the GIL (a compiled
@@ -44,8 +44,9 @@ def run_in_slices(kernel: Callable[[slice], None], n_records: int, granule: int)
         granule: slice lengths are multiples of this (the kernel's SIMD block).
     """
     slices = record_slices(n_records, granule)
-    if len(slices) == 1:
-        kernel(slices[0])
+    if len(slices) <= 1:
+        for records in slices:
+            kernel(records)
         return
     with ThreadPoolExecutor(max_workers=len(slices)) as pool:
         list(pool.map(kernel, slices))
