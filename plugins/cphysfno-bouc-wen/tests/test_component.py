@@ -23,6 +23,7 @@ def test_registry_builds_it_by_name() -> None:
         "coarse_simulation",
         "stories",
         "projected_simulation",
+        "pushover",
     }
 
 

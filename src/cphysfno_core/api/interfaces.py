@@ -18,7 +18,7 @@ import scipy.stats
 import torch
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from ..signals import GroundMotions, LinearSystem, Responses, Stories
+from ..signals import GroundMotions, LinearSystem, Responses, Stories, StoryPushover
 from ..signals.errors import CapabilityError, ConfigError, InputError
 from ..signals.intensity import SpectrumBand
 
@@ -97,6 +97,8 @@ CAPABILITIES: dict[str, str] = {
     "projected_simulation": "simulate_projected(motions, basis): the Galerkin-projected model",
     "stories": "stories(): which outputs bound each story and its height, for story drifts "
     "and floor accelerations (engineering demand parameters)",
+    "pushover": "story_pushover(roof_drift_ratio, pattern): each story's static shear-drift "
+    "curve under a lateral load pattern, monotonic or cyclic",
 }
 """The optional capabilities of a structure, by name, with what each one provides."""
 
@@ -211,6 +213,28 @@ class Structure(Component, ABC):
         ``Stories.stacked(heights_m)``.
         """
         raise self.missing("stories")
+
+    def story_pushover(
+        self, roof_drift_ratio: np.ndarray, pattern: np.ndarray | None = None
+    ) -> StoryPushover:
+        """A static pushover (capability ``"pushover"``) of a structure whose stories are
+        stacked floors (:meth:`stories`): from rest (under gravity, where the structure has
+        gravity), a lateral load of a fixed shape on the floors, scaled so that the roof
+        follows ``roof_drift_ratio``, returning each story's shear-drift curve.
+
+        Args:
+            roof_drift_ratio: ``[p]`` roof displacement over the building's height at each
+                point, from 0: monotonic (:func:`~cphysfno_core.signals.monotonic_protocol`)
+                or cyclic (:func:`~cphysfno_core.signals.cyclic_protocol`).
+            pattern: ``[d]`` the load on each floor, bottom up (scaled to sum to 1);
+                ``None``: the first elastic mode's floor displacements times the floor
+                masses (:func:`~cphysfno_core.signals.first_mode_pattern`).
+
+        Returns:
+            The curves; a pushover that loses its strength or stops converging ends early
+            and says why in ``stopped``.
+        """
+        raise self.missing("pushover")
 
     def missing(self, capability: str, needed_by: str = "") -> CapabilityError:
         """The error to raise when ``capability`` is asked of a structure that lacks it."""

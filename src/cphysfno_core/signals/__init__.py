@@ -41,6 +41,13 @@ from .intensity import (
     velocity_displacement,
 )
 from .linear_system import LinearSystem, Rayleigh
+from .pushover import (
+    StoryPushover,
+    cyclic_protocol,
+    first_mode_pattern,
+    lateral_pattern,
+    monotonic_protocol,
+)
 from .resampling import resample, same_step
 from .stories import Stories
 
@@ -65,12 +72,17 @@ __all__ = [
     "Responses",
     "SpectrumBand",
     "Stories",
+    "StoryPushover",
     "TimeGrid",
     "as_ground_motions",
     "check_finite",
     "check_main_guard",
     "check_time_step",
+    "cyclic_protocol",
+    "first_mode_pattern",
     "oscillator_displacement",
+    "lateral_pattern",
+    "monotonic_protocol",
     "peak_ground_acceleration",
     "peak_ground_velocity",
     "read_at2",

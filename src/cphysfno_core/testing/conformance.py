@@ -25,8 +25,9 @@ from ..api.interfaces import (
     Refiner,
     Structure,
 )
-from ..signals import GroundMotions, LinearSystem, Responses, Stories
+from ..signals import GroundMotions, LinearSystem, Responses, Stories, StoryPushover
 from ..signals.errors import CapabilityError, CphysfnoError, InputError, NotFittedError
+from ..signals.pushover import cyclic_protocol
 from .physics import check_linear_physics, smooth_random_motions
 
 
@@ -93,6 +94,10 @@ def check_structure(structure: Structure) -> None:
         _check_stories(structure)
     else:
         _expect(structure, CapabilityError, structure.stories)
+    if "pushover" in capabilities:
+        _check_pushover(structure)
+    else:
+        _expect(structure, CapabilityError, structure.story_pushover, np.zeros(2))
     if "coarse_simulation" in capabilities:
         coarse = structure.simulate(motions, dt=3 * motions.dt)
         n_coarse = int(np.ceil(motions.duration / (3 * motions.dt) - 1e-9)) + 1
@@ -106,6 +111,7 @@ CAPABILITY_METHODS = {
     "restoring_force": "restoring_force",
     "projected_simulation": "simulate_projected",
     "stories": "stories",
+    "pushover": "story_pushover",
 }
 """Capabilities provided by overriding one method of :class:`Structure`."""
 
@@ -144,6 +150,32 @@ def _check_stories(structure: Structure) -> None:
         raise _fail(structure, f"stories(): {error}") from None
     if structure.stories() != stories:
         raise _fail(structure, "stories() must return the same stories on every call")
+
+
+def _check_pushover(structure: Structure) -> None:
+    """``story_pushover`` over a small cyclic protocol returns a
+    :class:`~cphysfno_core.signals.StoryPushover` of one curve per story, the stories' heights,
+    positive masses and a pattern summing to 1; it starts at zero shear and drift, its story
+    drifts add up to the roof's displacement, and every story's initial slope is positive."""
+    protocol = cyclic_protocol([1e-4, 2e-4], points_per_cycle=8)
+    curves = structure.story_pushover(protocol)
+    if not isinstance(curves, StoryPushover):
+        raise _fail(structure, "story_pushover must return cphysfno_core.StoryPushover")
+    heights = np.asarray(structure.stories().heights_m)
+    if curves.n_stories != heights.size or not np.allclose(curves.heights, heights):
+        raise _fail(structure, "story_pushover must give every story of stories() its height")
+    if curves.stopped or curves.roof_drift_ratio.shape != protocol.shape:
+        raise _fail(structure, f"story_pushover stopped at small drifts: {curves.stopped}")
+    if not (np.all(curves.masses > 0) and np.isclose(curves.pattern.sum(), 1.0)):
+        raise _fail(structure, "story_pushover: masses must be > 0 kg and the pattern sum to 1")
+    for what, values in (("story_drift", curves.story_drift), ("story_shear", curves.story_shear)):
+        if not np.all(np.isfinite(values)) or np.any(values[0] != 0.0):
+            raise _fail(structure, f"story_pushover: {what} must be finite and start at 0")
+    roof = curves.story_drift.sum(axis=1)
+    if not np.allclose(roof, protocol * heights.sum(), rtol=1e-6, atol=1e-9 * heights.sum()):
+        raise _fail(structure, "story_pushover: the story drifts do not add up to the roof's")
+    if not np.all(curves.initial_stiffness > 0):
+        raise _fail(structure, "story_pushover: every story's initial slope must be > 0 N/m")
 
 
 def _expect(component: Any, error: type[BaseException], call, *args: Any) -> None:

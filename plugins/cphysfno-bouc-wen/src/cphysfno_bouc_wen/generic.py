@@ -225,3 +225,50 @@ def law_evaluator(functions: LawFunctions, n_states: int):
         return shear, rates
 
     return evaluate
+
+
+@cache
+def story_test_kernel(functions: LawFunctions, n_states: int):
+    """A compiled ``drive(coef [d, n_c], drift [p, d], largest_step [d]) -> shear [p, d]``:
+    every story driven from rest along its own drift history, linear between the samples,
+    the law's rate integrated over each increment in classical Runge-Kutta steps of at most
+    ``largest_step`` (m, in the increment's own pseudo-time; a law is rate-independent) with
+    ``settle`` after each; the story shears (N) at the samples."""
+    force, rate, settle = functions
+    width = max(n_states, 1)
+
+    @numba.njit(**FAST)
+    def drive(coef, drift, largest_step):
+        p, d = drift.shape
+        shear = np.empty((p, d))
+        state = np.zeros(width)
+        stage = np.empty(width)
+        total = np.empty(width)
+        out = np.zeros(width)
+        for s in range(d):
+            state[:] = 0.0
+            shear[0, s] = force(coef[s], drift[0, s], state)
+            for k in range(p - 1):
+                speed = drift[k + 1, s] - drift[k, s]
+                substeps = max(1, int(np.ceil(abs(speed) / largest_step[s])))
+                h = 1.0 / substeps
+                for sub in range(substeps):
+                    v0 = drift[k, s] + speed * h * sub
+                    total[:] = 0.0
+                    stage[:] = state
+                    for i in range(4):
+                        fraction = (0.0, 0.5, 0.5, 1.0)[i]
+                        weight = (1.0, 2.0, 2.0, 1.0)[i] / 6.0
+                        out[:] = 0.0
+                        rate(coef[s], v0 + speed * h * fraction, speed, stage, out)
+                        advance = (0.5, 0.5, 1.0, 0.0)[i] * h
+                        for m in range(width):
+                            total[m] += weight * out[m]
+                            stage[m] = state[m] + advance * out[m]
+                    for m in range(width):
+                        state[m] += h * total[m]
+                    settle(coef[s], v0 + speed * h, state)
+                shear[k + 1, s] = force(coef[s], drift[k + 1, s], state)
+        return shear
+
+    return drive

@@ -18,17 +18,18 @@ from cphysfno_core import (
     Responses,
     Stories,
     StoryLaw,
+    StoryPushover,
     Structure,
     get_registry,
     per_story,
     validate_params,
 )
-from cphysfno_core.signals import check_time_step
+from cphysfno_core.signals import check_time_step, first_mode_pattern, lateral_pattern
 from pydantic import Field, field_validator, model_validator
 
 from .chain import StoryChain, project_chain
 from .explicit import integrate_rk4
-from .generic import integrate_chain
+from .generic import integrate_chain, story_test_kernel
 from .implicit import StepFailure, integrate_gauss
 from .law_force import StoryLawRestoringForce
 from .laws import BoucWenLaw
@@ -38,6 +39,11 @@ from .restoring import BoucWenRestoringForce
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 PerStory = Positive | tuple[Positive, ...]
+
+STORY_TEST_RESOLUTION = 1e-3
+"""Largest Runge-Kutta step of the story test (:meth:`ShearBuilding.story_shears`) as a
+fraction of the story's yield drift: where a law turns a corner within a step, its force
+there is off by at most about half a step."""
 
 MAX_STEP_ANGLE = 0.45
 """Largest ``omega_max h`` (rad) of an automatically chosen Runge-Kutta step ``h``: the
@@ -138,6 +144,7 @@ class ShearBuilding(Structure):
             "coarse_simulation",
             "projected_simulation",
             "stories",
+            "pushover",
         }
     )
 
@@ -366,6 +373,74 @@ class ShearBuilding(Structure):
         """The stories one above the other, the outputs being the floors bottom-up, each
         ``story_heights`` high (m)."""
         return Stories.stacked(tuple(float(h) for h in self.story_heights))
+
+    def story_shears(self, drift: np.ndarray) -> np.ndarray:
+        """The story test: each story's shear along a drift history imposed on it alone.
+
+        Each story starts from rest and its law is driven along its column of ``drift``,
+        linear between the samples, the law's rate integrated over each increment with
+        classical Runge-Kutta steps of at most :data:`STORY_TEST_RESOLUTION` times the
+        story's yield drift (one step an increment for a law without one) and ``settle``
+        after each
+        (the stories of a shear building are independent springs, so this is also their
+        part in any static analysis).
+
+        Args:
+            drift: ``[p, n_stories]`` story drifts, m, starting anywhere (0 at rest).
+
+        Returns:
+            ``[p, n_stories]`` story shears, N.
+
+        Raises:
+            InputError: ``drift`` is not a finite ``[p, n_stories]`` array.
+        """
+        drift = np.asarray(drift, dtype=np.float64)
+        if drift.ndim != 2 or drift.shape[1] != self.n_stories or not np.isfinite(drift).all():
+            raise InputError(
+                f"{self.name}: drift must be a finite [p, {self.n_stories}] array of m, got "
+                f"shape {drift.shape}"
+            )
+        law = self.story_law
+        yield_drift = law.yield_drift(self.n_stories)
+        if yield_drift is None:
+            largest_step = np.full(self.n_stories, np.inf)
+        else:
+            largest_step = STORY_TEST_RESOLUTION * np.asarray(yield_drift, dtype=np.float64)
+        drive = story_test_kernel(law.functions(), law.n_states)
+        return drive(
+            np.ascontiguousarray(self.law_coefficients), np.ascontiguousarray(drift), largest_step
+        )
+
+    def story_pushover(
+        self, roof_drift_ratio: np.ndarray, pattern: np.ndarray | None = None
+    ) -> StoryPushover:
+        """Each story's shear-drift curve as the roof follows ``roof_drift_ratio``.
+
+        The stories of a shear building are independent springs, each loaded by its own
+        shear only: under any lateral pattern a story's shear-drift relation is its law's,
+        and the pattern changes only how far each story goes for a roof drift. This
+        pushover deforms the building with the same drift ratio in every story (story
+        ``i``'s drift is ``roof_drift_ratio`` times its height) and returns the story
+        shears of :meth:`story_shears` along it; it never loses strength or stops early.
+
+        Args:
+            roof_drift_ratio: ``[p]`` roof displacement over the building's height, from 0.
+            pattern: ``[n_stories]`` lateral load shape, recorded with the curves;
+                ``None``: first mode times mass.
+
+        Raises:
+            InputError: ``roof_drift_ratio`` is not a finite ``[p]`` array, or ``pattern``
+                not ``n_stories`` values >= 0 of positive sum.
+        """
+        ratio = np.asarray(roof_drift_ratio, dtype=np.float64)
+        if ratio.ndim != 1:
+            raise InputError(f"{self.name}: roof_drift_ratio must be [p], got {ratio.shape}")
+        drift = ratio[:, None] * self.story_heights[None, :]
+        shear = self.story_shears(drift)
+        if pattern is None:
+            pattern = first_mode_pattern(self.linear_system(), range(self.n_stories), self.masses)
+        pattern = lateral_pattern(pattern, self.n_stories)
+        return StoryPushover(ratio, drift, shear, self.masses, self.story_heights, pattern)
 
     def linear_system(self) -> LinearSystem:
         """Masses (kg), damping (N s/m), initial stiffness (N/m), influence ones, identity
