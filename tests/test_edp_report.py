@@ -8,6 +8,7 @@ import numpy as np
 import cphysfno_core as cp
 from cphysfno_core import edp
 from cphysfno_core.app import pipeline
+from cphysfno_core.reporting import baselines
 
 CONFIG = """
 [structure]
@@ -90,7 +91,28 @@ def test_a_run_reports_each_models_edp_errors_and_the_drift_scatter(toy_registry
     )
     np.testing.assert_allclose(evaluation.true_edps.pfa, truth.pfa)
 
+    # The baselines: fitted on the training records' simulated EDPs, scored on the test ones.
+    train_rows = data.rows("train")
+    train = edp.compute(
+        data.u[train_rows], structure, cp.GroundMotions(data.ag[train_rows], data.dt)
+    )
+    t1 = float(structure.periods(1)[0])
+    cloud = baselines.CloudRegression().fit(
+        baselines.sa_t1(cp.GroundMotions(data.ag[train_rows], data.dt), t1),
+        np.column_stack([train.pid, train.pfa[:, 1:]]),
+    )
+    predicted = cloud.predict(baselines.sa_t1(motions, t1))
+    ratio = np.abs(np.log(predicted[:, :2] / truth.pid))
+    np.testing.assert_allclose(
+        document["baselines"]["baseline-cloud"]["edp"]["PID"]["median"], np.median(ratio, axis=0)
+    )
+    assert set(document["baselines"]) == {"baseline-cloud", "baseline-gp"}
+    for label in document["models"]:
+        assert "validation_edp" in document["models"][label], label
+    assert isinstance(document["baseline_beats_surrogates"], list)
+
     report = (out / "report.md").read_text()
+    assert "| baseline-gp |" in report and "Gaussian process on ln PGA" in report
     assert "## Engineering demand parameters (test split)" in report
     assert "| model | story-1 | story-2 |" in report
     assert "| model | dof-1 | dof-2 |" in report
@@ -106,6 +128,7 @@ def test_a_structure_without_stories_gets_a_note_and_no_edps(toy_registry, tmp_p
     document = json.loads((out / "metrics.json").read_text())
     assert document["edp"] is None
     assert all("edp" not in row for row in document["models"].values())
+    assert document["baselines"] == {} and document["baseline_beats_surrogates"] == []
     assert evaluation.true_edps is None and not evaluation.predicted_edps
     report = (out / "report.md").read_text()
     assert "The structure `toy-structure` declares no stories" in report

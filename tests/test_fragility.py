@@ -111,12 +111,12 @@ def test_a_finite_source_is_drawn_in_rounds_until_there_are_enough():
     assert single.n_records == 2 and largest == 2
 
 
-def test_the_default_model_is_the_composite_best_on_validation_refined_or_not():
+def test_the_default_model_is_the_best_on_validation_rel_l2_without_edps():
     from cphysfno_core.app.fragility_study import default_model
 
     rows = {
         "physics-els": {"validation_rel_l2": [0.1], "rel_l2": [0.1]},
-        "fno": {"validation_rel_l2": [0.15], "rel_l2": [0.1]},
+        "fno": {"validation_rel_l2": [0.19], "rel_l2": [0.1]},
         "c-physfno-els": {"validation_rel_l2": [0.18, 0.18], "rel_l2": [0.9, 0.9]},
         "refined-c-physfno-els": {"validation_rel_l2": [0.21, 0.21], "rel_l2": [0.1, 0.1]},
         "refined-c-physfno-relaxed": {"validation_rel_l2": [0.3], "rel_l2": [0.1]},
@@ -125,3 +125,24 @@ def test_the_default_model_is_the_composite_best_on_validation_refined_or_not():
     rows["refined-c-physfno-els"]["validation_rel_l2"] = [0.18, 0.18]
     assert default_model({"models": rows}) == "refined-c-physfno-els"
     assert default_model({"models": {"fno": rows["fno"]}}) == "fno"
+
+
+def _edp_errors(pid: list[float], pfa: list[float]) -> dict:
+    return {"PID": {"median": pid, "p90": pid}, "PFA": {"median": pfa, "p90": pfa}}
+
+
+def test_the_default_model_is_the_best_on_validation_edp_error_of_the_demands():
+    from cphysfno_core.app.fragility_study import default_model
+
+    rows = {
+        "physics-els": {"validation_edp": _edp_errors([0.01, 0.01], [0.01])},
+        "fno": {"validation_rel_l2": [0.1], "validation_edp": _edp_errors([0.05, 0.07], [0.5])},
+        "c-physfno-els": {
+            "validation_rel_l2": [0.5],
+            "validation_edp": _edp_errors([0.08, 0.06], [0.1]),
+        },
+    }
+    # PID alone: fno 0.06 < 0.07; PID and PFA: c-physfno-els (0.08+0.06+0.1)/3 < 0.207
+    assert default_model({"models": rows}, ("PID",)) == "fno"
+    assert default_model({"models": rows}, ("PID", "PFA")) == "c-physfno-els"
+    assert default_model({"models": rows}) == "c-physfno-els"

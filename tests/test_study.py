@@ -368,3 +368,34 @@ def test_the_time_left_is_the_pace_of_the_finished_runs_times_those_left():
     assert remaining.one_done() == "; about 20 min left for the study (2 runs)"  # 600 s a run
     assert remaining.one_done() == "; about 8 min left for the study (1 run)"  # 450 s a run
     assert remaining.one_done() == ""
+
+
+def test_a_training_size_sweep_draws_the_edp_learning_curve_with_the_baselines(
+    toy_registry, tmp_path
+):
+    config = _config(
+        structure={"name": "toy-storied", "cubic": 40.0},
+        study={
+            "seeds": [0],
+            "sweeps": {"size": {"field": "training.train_records", "values": [6, 10]}},
+            "sweep_preprocessors": ["toy-linear"],
+        },
+    )
+    summary = study.run_study(config, tmp_path)
+    curve = summary["sweeps"]["size"]["edp"]
+    assert {"baseline-cloud", "baseline-gp", "toy-operator", "physics-toy-linear"} <= set(curve)
+    small = json.loads((tmp_path / "runs/size/6/seed-0/metrics.json").read_text())
+    cloud = small["baselines"]["baseline-cloud"]["edp"]
+    assert curve["baseline-cloud"]["6"] == [{key: cloud[key]["median"] for key in ("PID", "PFA")}]
+    # the baselines are fitted on the sweep's training records, not the whole split
+    large = json.loads((tmp_path / "runs/size/10/seed-0/metrics.json").read_text())
+    assert large["baselines"]["baseline-cloud"]["edp"] != cloud
+    table = json.loads((tmp_path / "runs/table/seed-0/metrics.json").read_text())
+    pid = table["models"]["toy-operator"]["edp"]["PID"]["median"]
+    np.testing.assert_allclose(summary["models"]["toy-operator"]["pid_median"]["mean"], pid)
+    assert set(summary["baselines"]) == {"baseline-cloud", "baseline-gp"}
+
+    report = write_study_report(config, summary, tmp_path).read_text()
+    assert "## EDP errors (test split)" in report and "| baseline-gp |" in report
+    assert "figures/learning-curve-size.png" in report
+    assert (tmp_path / "figures/learning-curve-size.png").stat().st_size > 10_000

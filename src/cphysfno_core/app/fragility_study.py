@@ -131,13 +131,15 @@ def intensity(name: str, motions: GroundMotions, first_period: float) -> np.ndar
     )
 
 
-def default_model(metrics: dict[str, Any]) -> str:
-    """The model a fragility uses unless told: the C-Phys model, refined or not, with the
-    lowest mean validation relative L2 (a refined one where they tie), else the trained
-    model with the lowest. The refiner is not preferred for itself: fitted on the training
-    split, it can make a model worse on new records (the SAC frame's: validation 0.21
-    refined against 0.18 without, and drift fragility medians 30-50 % off against within
-    10 %).
+def default_model(metrics: dict[str, Any], demands: tuple[str, ...] = ("PID", "PFA")) -> str:
+    """The model a fragility or a demand sample uses unless told: the trained model with
+    the lowest validation EDP error, the mean over stories and floors of the median
+    ``|ln(predicted / simulated)|`` of the ``demands`` (``validation_edp`` in
+    ``metrics.json``), a refined one where they tie. A run without EDP errors
+    (a structure without stories) chooses by the mean validation relative L2 instead. The
+    refiner is not preferred for itself: fitted on the training split, it can make a model
+    worse on new records (the SAC frame's: validation 0.21 refined against 0.18 without,
+    and drift fragility medians 30-50 % off against within 10 %).
 
     Raises:
         ConfigError: the run has no trained model.
@@ -151,11 +153,15 @@ def default_model(metrics: dict[str, Any]) -> str:
         raise ConfigError("this run has no trained model: run `cphysfno train` first")
 
     def score(label: str) -> tuple[float, bool]:
-        values = rows[label].get("validation_rel_l2", rows[label]["rel_l2"])
-        return float(np.mean(values)), not label.startswith("refined-")
+        row = rows[label]
+        if "validation_edp" in row:
+            medians = [v for key in demands for v in row["validation_edp"][key]["median"]]
+            value = float(np.nanmean(medians)) if np.isfinite(medians).any() else np.inf
+        else:
+            value = float(np.mean(row.get("validation_rel_l2", row["rel_l2"])))
+        return value, not label.startswith("refined-")
 
-    composite = [label for label in rows if label.removeprefix("refined-").startswith("c-phys")]
-    return min(composite or list(rows), key=score)
+    return min(rows, key=score)
 
 
 @dataclass(frozen=True)
@@ -175,9 +181,11 @@ class TrainedRun:
     structure: Any
 
 
-def load_trained_run(run: Path, model_label: str | None) -> TrainedRun:
-    """The run's config, the model ``model_label`` (default :func:`default_model`) and the
-    structure.
+def load_trained_run(
+    run: Path, model_label: str | None, demands: tuple[str, ...] = ("PID", "PFA")
+) -> TrainedRun:
+    """The run's config, the model ``model_label`` (default :func:`default_model` on the
+    ``demands``) and the structure.
 
     Raises:
         ConfigError: the run is not finished or has no such model (the message lists those
@@ -187,7 +195,7 @@ def load_trained_run(run: Path, model_label: str | None) -> TrainedRun:
         if not (run / needed).is_file():
             raise ConfigError(f"{run} is not a finished run: it has no {needed}")
     config = parse_config(json.loads((run / "config.json").read_text()))
-    label = model_label or default_model(json.loads((run / "metrics.json").read_text()))
+    label = model_label or default_model(json.loads((run / "metrics.json").read_text()), demands)
     folder = run / MODELS / label
     if not (folder / "model.json").is_file():
         known = sorted(p.name for p in (run / MODELS).iterdir() if (p / "model.json").is_file())
@@ -252,7 +260,8 @@ def run_fragility(
         )
     if not (run / DATASET).is_file():
         raise ConfigError(f"{run} is not a finished run: it has no {DATASET}")
-    trained = load_trained_run(run, model_label)
+    demands = tuple(dict.fromkeys(state.demand.upper() for state in limit_states))
+    trained = load_trained_run(run, model_label, demands)
     config, label, model, structure = (
         trained.config,
         trained.label,

@@ -22,7 +22,7 @@ from ..data.layout import DATASET, MODELS
 from ..model.composite import CompositeModel
 from ..model.parts import model_label
 from ..model.training import resolve_device
-from ..reporting import against_physics, metrics
+from ..reporting import against_physics, baselines, metrics
 from ..reporting.evaluation import (
     EDPScorer,
     Evaluation,
@@ -190,23 +190,22 @@ def evaluate(
     data = load_dataset(dataset or out / DATASET)
     _set_threads(config)
     test_gm, test_u = data.motions("test"), data.targets("test")
-    calibration_records = {
-        "validation": len(data.rows("val")),
-        "training": len(data.rows("train")[slice(config.training.train_records)]),
-    }
+    train_rows = data.rows("train")[slice(config.training.train_records)]
+    calibration_records = {"validation": len(data.rows("val")), "training": len(train_rows)}
     val_gm, val_u = data.motions("val"), data.targets("val")
     results: dict[str, dict[str, Any]] = {}
     predictions: dict[str, Any] = {}
     structure = get_registry().create("structure", config.structure.name, **config.structure.params)
     stories = structure.stories() if "stories" in structure.capabilities else None
-    scorer = EDPScorer(stories, data, test_gm)
+    scorer = EDPScorer(stories, data, train_rows)
     for pp in config.preprocessor:
         label = f"physics-{pp.name}"
+        z_test, z_val = data.physics(pp.name, "test"), data.physics(pp.name, "val")
         results[label] = {
-            **metric_row(data.physics(pp.name, "test"), test_u),
-            "validation_rel_l2": metrics.relative_l2(data.physics(pp.name, "val"), val_u).tolist(),
+            **metric_row(z_test, test_u),
+            "validation_rel_l2": metrics.relative_l2(z_val, val_u).tolist(),
         }
-        results[label].update(scorer.errors(label, data.physics(pp.name, "test")))
+        results[label].update(scorer.errors(label, z_test, z_val))
     for label in model_labels(config):
         directory = out / MODELS / label
         if not (directory / "model.json").exists():
@@ -215,13 +214,13 @@ def evaluate(
         z = None if model.preprocessor is None else data.physics(model.preprocessor.name, "test")
         stages = model.predict_stages(test_gm, z=z)
         predictions[label] = stages
+        z_val = None if model.preprocessor is None else data.physics(model.preprocessor.name, "val")
+        validation = model.predict_stages(val_gm, z=z_val).mean
         results[label] = metric_row(stages.mean, test_u)
-        results[label].update(scorer.errors(label, stages.mean))
+        results[label]["validation_rel_l2"] = metrics.relative_l2(validation, val_u).tolist()
+        results[label].update(scorer.errors(label, stages.mean, validation))
         if model.preprocessor is not None:
-            name = model.preprocessor.name
-            validation = model.predict_stages(val_gm, z=data.physics(name, "val")).mean
-            results[label]["validation_rel_l2"] = metrics.relative_l2(validation, val_u).tolist()
-            results[label]["physics_input"] = f"physics-{name}"
+            results[label]["physics_input"] = f"physics-{model.preprocessor.name}"
         if model.refiner is not None:
             calibrated_on = calibration_records[model.refiner.calibration_split]
             results[label].update(
@@ -247,6 +246,13 @@ def evaluate(
     for line in against_physics.describe_shortfalls(worse):
         show_progress(f"warning: {line}")
     chosen = against_physics.chosen_forms(results)
+    baseline_rows = {}
+    beaten = []
+    if scorer.truth is not None:
+        baseline_rows = scorer.baselines(float(structure.periods(1)[0]))
+        beaten = baselines.beaten_surrogates(results, baseline_rows, scorer.locations())
+    for line in baselines.describe_beaten(beaten):
+        show_progress(f"note: {line}")
     document = {
         "models": results,
         "output_names": list(data.output_names),
@@ -258,9 +264,21 @@ def evaluate(
         "worse_than_physics": worse,
         "chosen_forms": chosen,
         "edp": scorer.describe(),
+        "baselines": baseline_rows,
+        "baseline_beats_surrogates": beaten,
     }
     (out / "metrics.json").write_text(json.dumps(document, indent=2))
-    return Evaluation(data, predictions, results, worse, chosen, scorer.truth, scorer.predicted)
+    return Evaluation(
+        data,
+        predictions,
+        results,
+        worse,
+        chosen,
+        scorer.truth,
+        scorer.predicted,
+        baseline_rows,
+        beaten,
+    )
 
 
 def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Evaluation:

@@ -328,6 +328,33 @@ def _mean_std(rows: list[list[float]]) -> dict[str, list[float]]:
     return {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()}
 
 
+EDP_SUMMARY = {"pid_median": "PID", "pfa_median": "PFA"}
+"""Keys of a summary row -> the EDP whose median test error (per story or floor) they hold,
+as mean and std over seeds."""
+
+
+def _edp_summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """``pid_median`` and ``pfa_median`` over the rows of one model (``{}`` without EDPs)."""
+    if "edp" not in rows[0]:
+        return {}
+    return {
+        key: _mean_std([row["edp"][edp_name]["median"] for row in rows])
+        for key, edp_name in EDP_SUMMARY.items()
+    }
+
+
+def _sweep_edps(rows: list[tuple[Any, dict[str, Any]]]) -> dict[str, dict[str, list]]:
+    """label -> str(value) -> per-seed ``{"PID": [...], "PFA": [...]}`` median test errors of
+    the models and baselines of the ``(value, metrics.json)`` pairs that have EDPs."""
+    found: dict[str, dict[str, list]] = {}
+    for value, document in rows:
+        for label, row in {**document["models"], **document.get("baselines", {})}.items():
+            if "edp" in row:
+                medians = {key: row["edp"][key]["median"] for key in EDP_SUMMARY.values()}
+                found.setdefault(label, {}).setdefault(str(value), []).append(medians)
+    return found
+
+
 def _summary(
     documents: list[dict[str, Any]], seeds: list[int], epochs: int, sweeps: dict[str, Any]
 ) -> dict[str, Any]:
@@ -341,8 +368,12 @@ def _summary(
             for key in ("rel_l2", "rmse", "coverage_68", "coverage_90")
             if key in rows[0]
         }
+        models[label].update(_edp_summary(rows))
     return {
         "models": models,
+        "baselines": {
+            label: _edp_summary([row]) for label, row in documents[0].get("baselines", {}).items()
+        },
         "sweeps": sweeps,
         "seeds": seeds,
         "epochs": epochs,
@@ -396,9 +427,13 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
     Returns:
         ``models``: label -> ``{"rel_l2": {"mean", "std"}, "rmse": {...}}`` per DOF over the
         table's seeds (standard deviation with ``ddof = 0``), plus ``coverage_68`` and
-        ``coverage_90`` likewise for refined models; ``sweeps``: name -> field, values and
-        label -> value -> per-seed ``rel_l2`` per DOF (values with a finished run only);
-        and the table runs' seeds, epochs, split sizes, output names and device.
+        ``coverage_90`` likewise for refined models, and ``pid_median`` / ``pfa_median``
+        (the median test ``|ln|`` error per story / floor) where the structure has
+        stories; ``baselines``: label -> those two for each baseline (fitted on the
+        training data, the same for every seed); ``sweeps``: name -> field, values,
+        label -> value -> per-seed ``rel_l2`` per DOF, and ``edp``: label (models and
+        baselines) -> value -> per-seed ``{"PID", "PFA"}`` medians (values with a finished
+        run only); and the table runs' seeds, epochs, split sizes, output names and device.
     """
     documents = {run.folder: json.loads((run.folder / "metrics.json").read_text()) for run in runs}
     table = [run for run in runs if run.group == TABLE]
@@ -416,6 +451,7 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
             "label": sweep.label or sweep.field,
             "values": [v for v in sweep.values if any(r.value == v for r in done)],
             "rel_l2": by_label,
+            "edp": _sweep_edps([(run.value, documents[run.folder]) for run in done]),
         }
     return _summary(
         [documents[run.folder] for run in table],

@@ -47,6 +47,42 @@ def _coverage(summary: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _edp_tables(summary: dict[str, Any]) -> list[str]:
+    """Median test ``|ln|`` errors of PID per story and PFA per floor, models and baselines
+    (mean ± std over seeds; the baselines have no seed)."""
+    rows = {
+        **{k: v for k, v in summary["models"].items() if "pid_median" in v},
+        **summary.get("baselines", {}),
+    }
+    if not rows:
+        return []
+    lines = [
+        "",
+        "## EDP errors (test split)",
+        "",
+        "Median |ln(predicted / simulated)| over the test records; `baseline-*` rows are "
+        "regressions on intensity measures fitted on the same training simulations.",
+    ]
+    for key, what in (
+        ("pid_median", "Peak story drift ratio"),
+        ("pfa_median", "Peak floor acceleration"),
+    ):
+        width = len(next(iter(rows.values()))[key]["mean"])
+        lines += [
+            "",
+            f"### {what}",
+            "",
+            "| model | " + " | ".join(f"{i + 1}" for i in range(width)) + " |",
+        ]
+        lines.append("|---" * (width + 1) + "|")
+        for label, row in rows.items():
+            cells = [
+                f"{m:.3f} ± {d:.3f}" for m, d in zip(row[key]["mean"], row[key]["std"], strict=True)
+            ]
+            lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def _panels(n_outputs: int) -> list[int]:
     """The outputs with a panel in sweep figures: first, middle, last (paper: 1, 3, 5)."""
     return sorted({0, n_outputs // 2, n_outputs - 1})
@@ -79,6 +115,7 @@ def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: s
     lines += ["", "## Relative L2 error (test split)", "", *_table(summary, "rel_l2", 4, paper)]
     lines += ["", "## RMSE (m, test split)", "", *_table(summary, "rmse", 4, paper)]
     lines += _coverage(summary)
+    lines += _edp_tables(summary)
     if summary["sweeps"]:
         directory = out / "figures"
         directory.mkdir(parents=True, exist_ok=True)
@@ -93,6 +130,19 @@ def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: s
                 directory / f"sweep-{name}.png",
             )
             lines.append(f"![{name}](figures/{path.name})")
+            if sweep["field"] == "training.train_records" and sweep.get("edp"):
+                curve = figures.learning_curve(
+                    sweep["values"], sweep["edp"], directory / f"learning-curve-{name}.png"
+                )
+                lines += [
+                    "",
+                    "EDP error against the number of training simulations, for the models, "
+                    "their physics inputs and the baselines fitted on the same simulations "
+                    "(median |ln(predicted / simulated)| on the test records, mean over "
+                    "stories or floors; bars span the seeds):",
+                    "",
+                    f"![learning curve](figures/{curve.name})",
+                ]
     first = f"{RUNS}/{TABLE}/seed-{summary['seeds'][0]}"
     lines += [
         "",

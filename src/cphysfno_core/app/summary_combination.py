@@ -76,6 +76,7 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
     devices = [part for summary in summaries for part in _DEVICES.split(summary["device"])]
     return {
         "models": models,
+        "baselines": _baselines(summaries),
         "sweeps": _combine_sweeps([summary["sweeps"] for summary in summaries]),
         "seeds": list(dict.fromkeys(seed for summary in summaries for seed in summary["seeds"])),
         "epochs": first["epochs"],
@@ -84,6 +85,12 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
         "response_rms": response,
         "device": ", ".join(dict.fromkeys(devices)),
     }
+
+
+def _baselines(summaries: list[dict[str, Any]]) -> dict[str, Any]:
+    """The baselines' rows, fitted on the training data alone and so the same in every
+    summary of the same data (the first one that has them)."""
+    return next((summary["baselines"] for summary in summaries if summary.get("baselines")), {})
 
 
 def _physics_row(holding: list[dict[str, Any]], label: str) -> dict[str, Any]:
@@ -149,11 +156,12 @@ def _combine_sweeps(sweeps: list[dict[str, Any]]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for part in sweeps:
         for name, sweep in part.items():
-            into = out.setdefault(name, {**sweep, "values": [], "rel_l2": {}})
+            into = out.setdefault(name, {**sweep, "values": [], "rel_l2": {}, "edp": {}})
             if sweep["field"] != into["field"]:
                 raise ConfigError(f"sweep {name} sets {sweep['field']} and {into['field']}")
             into["values"] += [v for v in sweep["values"] if v not in into["values"]]
-            for label, by_value in sweep["rel_l2"].items():
-                for value, rows in by_value.items():
-                    into["rel_l2"].setdefault(label, {}).setdefault(value, []).extend(rows)
+            for key in ("rel_l2", "edp"):
+                for label, by_value in sweep.get(key, {}).items():
+                    for value, rows in by_value.items():
+                        into[key].setdefault(label, {}).setdefault(value, []).extend(rows)
     return out

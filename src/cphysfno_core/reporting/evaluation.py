@@ -11,7 +11,7 @@ import numpy as np
 from ..api.interfaces import Refiner
 from ..data.datasets import Dataset
 from ..signals import GroundMotions, Responses, Stories
-from . import edp, metrics
+from . import baselines, edp, metrics
 
 
 @dataclass
@@ -21,8 +21,11 @@ class Evaluation:
     Attributes:
         true_edps: the EDPs of the simulated test records, None when the structure declares
             no stories.
-        predicted_edps: the EDPs of each row of ``metrics`` (models and physics inputs), by
-            label, on the same records.
+        predicted_edps: the EDPs of each row of ``metrics`` (models and physics inputs) and
+            of each baseline, by label, on the same records.
+        baselines: the baselines' rows (:meth:`EDPScorer.baselines`), by label.
+        baseline_beats: where a baseline beats every trained model
+            (:func:`~cphysfno_core.reporting.baselines.beaten_surrogates`).
     """
 
     data: Dataset
@@ -32,6 +35,8 @@ class Evaluation:
     chosen_forms: dict[str, str] = field(default_factory=dict)
     true_edps: edp.EDPs | None = None
     predicted_edps: dict[str, edp.EDPs] = field(default_factory=dict)
+    baselines: dict[str, dict[str, Any]] = field(default_factory=dict)
+    baseline_beats: list[dict] = field(default_factory=list)
 
 
 COVERAGE_LEVELS = (0.68, 0.90)
@@ -90,32 +95,86 @@ def edp_interval_scores(
     return found
 
 
-class EDPScorer:
-    """The EDPs of the test records, simulated and predicted, for a structure with stories
-    (for one without, every method gives nothing)."""
+def simulated_edps(data: Dataset, rows: np.ndarray, stories: Stories) -> edp.EDPs:
+    """The EDPs of the simulated records ``rows`` of ``data`` (PFA from the absolute
+    acceleration channel where the dataset has one)."""
+    extras = {}
+    if edp.ACCELERATION_EXTRA in data.extras:
+        extras[edp.ACCELERATION_EXTRA] = data.extras[edp.ACCELERATION_EXTRA][rows]
+    motions = GroundMotions(data.ag[rows], data.dt)
+    return edp.compute(Responses(data.u[rows], data.dt, extras=extras), stories, motions)
 
-    def __init__(self, stories: Stories | None, data: Dataset, motions: GroundMotions) -> None:
+
+class EDPScorer:
+    """The EDPs of the validation and test records, simulated and predicted, and the
+    baselines' predictions of them, for a structure with stories (for one without, every
+    method gives nothing).
+
+    Args:
+        stories: the structure's stories, or None.
+        data: the dataset.
+        train_rows: the training records the models learn from (and the baselines are
+            fitted on).
+    """
+
+    def __init__(self, stories: Stories | None, data: Dataset, train_rows: np.ndarray) -> None:
         self.stories = stories
-        self.motions = motions
+        self.data = data
+        self.train_rows = train_rows
+        self.motions = {split: data.motions(split) for split in ("val", "test")}
         self.predicted: dict[str, edp.EDPs] = {}
         self.truth: edp.EDPs | None = None
+        self.validation_truth: edp.EDPs | None = None
         self.output_names = list(data.output_names)
-        rows = data.rows("test")
-        extras = {}
-        if edp.ACCELERATION_EXTRA in data.extras:
-            extras[edp.ACCELERATION_EXTRA] = data.extras[edp.ACCELERATION_EXTRA][rows]
-        self.pfa_from = edp.ACCELERATION_EXTRA if extras else "displacement"
+        self.pfa_from = (
+            edp.ACCELERATION_EXTRA if edp.ACCELERATION_EXTRA in data.extras else "displacement"
+        )
         if stories is not None:
-            responses = Responses(data.u[rows], data.dt, extras=extras)
-            self.truth = edp.compute(responses, stories, motions)
+            self.truth = simulated_edps(data, data.rows("test"), stories)
+            self.validation_truth = simulated_edps(data, data.rows("val"), stories)
 
-    def errors(self, label: str, displacement: Any) -> dict[str, Any]:
-        """``{"edp": log errors}`` of a ``[n, T, n_outputs]`` prediction, or ``{}``."""
+    def errors(
+        self, label: str, displacement: Any, validation: Any | None = None
+    ) -> dict[str, Any]:
+        """``{"edp": test log errors, "validation_edp": validation log errors}`` of
+        ``[n, T, n_outputs]`` predictions of the test (and validation) records, or ``{}``."""
         if self.truth is None:
             return {}
-        predicted = edp.compute(displacement, self.stories, self.motions)
+        predicted = edp.compute(displacement, self.stories, self.motions["test"])
         self.predicted[label] = predicted
-        return {"edp": edp.log_errors(predicted, self.truth)}
+        found = {"edp": edp.log_errors(predicted, self.truth)}
+        if validation is not None:
+            on_validation = edp.compute(validation, self.stories, self.motions["val"])
+            found["validation_edp"] = edp.log_errors(on_validation, self.validation_truth)
+        return found
+
+    def baselines(self, first_period: float) -> dict[str, dict[str, Any]]:
+        """The rows of :data:`~cphysfno_core.reporting.baselines.BASELINES`, fitted on the
+        training records' simulated PID and PFA: ``{label: {"description", "edp",
+        "validation_edp"}}`` (``{}`` for a structure without stories)."""
+        if self.truth is None:
+            return {}
+        train = simulated_edps(self.data, self.train_rows, self.stories)
+        train_motions = GroundMotions(self.data.ag[self.train_rows], self.data.dt)
+        fitted = baselines.fit_and_predict(
+            train, train_motions, self.motions, first_period, self.stories
+        )
+        rows = {}
+        for label, predicted in fitted.items():
+            self.predicted[label] = predicted["test"]
+            rows[label] = {
+                "description": baselines.BASELINES[label],
+                "edp": edp.log_errors(predicted["test"], self.truth),
+                "validation_edp": edp.log_errors(predicted["val"], self.validation_truth),
+            }
+        return rows
+
+    def locations(self) -> dict[str, list[str]]:
+        """The story names (``"PID"``) and the floor names above the ground (``"PFA"``)."""
+        return {
+            "PID": list(self.stories.names),
+            "PFA": self.truth.floor_names(self.output_names)[1:],
+        }
 
     def describe(self) -> dict[str, Any] | None:
         """What the ``edp`` entries of ``metrics.json`` are computed over."""
@@ -126,6 +185,9 @@ class EDPScorer:
             "heights_m": list(self.stories.heights_m),
             "floors": self.truth.floor_names(self.output_names),
             "true_pfa_from": self.pfa_from,
-            "errors": "|ln(predicted / simulated)| over the test records: median and p90 "
-            "per story (PID) and per floor above the ground (PFA)",
+            "errors": "|ln(predicted / simulated)| over the test records (edp) and the "
+            "validation records (validation_edp): median and p90 per story (PID) and per "
+            "floor above the ground (PFA)",
+            "baselines": "fitted on the simulated PID and PFA of the training records the "
+            "models learn from",
         }

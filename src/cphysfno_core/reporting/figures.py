@@ -380,3 +380,38 @@ def sweep_boxes(
         ax.set_title(names[dof])
         ax.legend(fontsize=7)
     return _save(fig, path)
+
+
+def learning_curve(
+    values: list, errors: dict[str, dict[str, list[dict[str, list[float]]]]], path: Path
+) -> Path:
+    """EDP error against the number of training simulations: the mean over stories (PID)
+    and over floors (PFA) of the median test ``|ln(predicted / simulated)|``, one line per
+    model and baseline (the mean over seeds, bars from the least to the largest seed).
+
+    Args:
+        values: the training sizes, in order.
+        errors: label -> str(size) -> per-seed ``{"PID": [n_stories], "PFA": [n_floors]}``.
+    """
+    fig, axes = _subplots(1, 2, figsize=(10.0, 4.0), squeeze=False)
+    sizes = np.asarray(values, dtype=np.float64)
+    for ax, key in zip(axes[0], ("PID", "PFA"), strict=True):
+        for (label, by_size), style in zip(errors.items(), model_styles(len(errors)), strict=True):
+            seeds = [[np.nanmean(seed[key]) for seed in by_size.get(str(v), [])] for v in values]
+            mean = np.array([np.mean(s) if s else np.nan for s in seeds])
+            low = np.array([np.min(s) if s else np.nan for s in seeds])
+            high = np.array([np.max(s) if s else np.nan for s in seeds])
+            if label.startswith("baseline-"):
+                style = {**style, "linestyle": "--", "marker": "x"}
+            elif label.startswith("physics-"):
+                style = {**style, "linestyle": ":", "marker": "."}
+            ax.errorbar(
+                sizes, mean, yerr=[mean - low, high - mean], label=label, capsize=2, **style
+            )
+        ax.set_xscale("log")
+        ax.set_xticks(sizes, [str(v) for v in values])
+        ax.set_xlabel("training simulations")
+        ax.set_ylabel(f"median |ln(pred / sim)| of {key}, mean over locations")
+        ax.set_title(key)
+        ax.legend(fontsize=7)
+    return _save(fig, path)

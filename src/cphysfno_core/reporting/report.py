@@ -14,6 +14,7 @@ from ..data.layout import MODELS
 from ..signals.intensity import SpectrumBand
 from . import figures
 from .against_physics import describe_shortfalls
+from .baselines import describe_beaten
 from .edp import ACCELERATION_EXTRA
 from .evaluation import Evaluation
 from .paper_tables import PaperTable, paper_table
@@ -302,9 +303,11 @@ def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
         "### Peak story drift ratio",
         "",
     ]
-    lines += _edp_table(models, "PID", stories)
+    rows = {**models, **evaluation.baselines}
+    lines += _edp_table(rows, "PID", stories)
     lines += ["", "### Peak floor acceleration", ""]
-    lines += _edp_table(models, "PFA", floors)
+    lines += _edp_table(rows, "PFA", floors)
+    lines += _baseline_lines(evaluation)
     refined = {k: v for k, v in models.items() if "edp_coverage_68" in v}
     if refined:
         lines += [
@@ -325,6 +328,23 @@ def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
                 for level in (68, 90)
             ]
             lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _baseline_lines(evaluation: Evaluation) -> list[str]:
+    """What the baseline rows are, and where one beats every trained model."""
+    if not evaluation.baselines:
+        return []
+    lines = ["", "The baselines, fitted on the simulated EDPs of the same training records:", ""]
+    lines += [f"- `{label}`: {row['description']}" for label, row in evaluation.baselines.items()]
+    beaten = describe_beaten(evaluation.baseline_beats)
+    lines += [""] + (
+        [f"**Note:** {line}." for line in beaten]
+        or [
+            "Every EDP at every story and floor is predicted better by a trained model than by "
+            "both baselines."
+        ]
+    )
     return lines
 
 

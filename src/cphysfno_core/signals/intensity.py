@@ -1,4 +1,5 @@
-"""Ground-motion intensity measures: response spectra, PGA, PGV, Arias intensity, D5-95.
+"""Ground-motion intensity measures: response spectra, Sa_avg, PGA, PGV, Arias intensity,
+D5-95.
 
 Every function takes accelerations ``[n_records, n_steps]`` in m/s^2 (a 1-D array is one
 record) with their time step ``dt`` in s, and treats each record as linear between its
@@ -237,6 +238,31 @@ def response_spectrum(
     for j in range(periods.size):
         peaks[:, j] = np.abs(_displacement(ag, phi[j], gain_b[j], gain_c[j])).max(axis=1)
     return ResponseSpectrum(periods.copy(), _check_damping(damping), peaks)
+
+
+def average_spectral_acceleration(
+    acceleration: np.ndarray,
+    dt: float,
+    low: float,
+    high: float,
+    n_periods: int = 10,
+    damping: float = 0.05,
+) -> np.ndarray:
+    """``[n]`` average spectral acceleration Sa_avg in m/s^2: the geometric mean of the
+    pseudo-spectral acceleration at ``n_periods`` periods spaced evenly in logarithm from
+    ``low`` to ``high`` s (Eads, Miranda and Lignos 2015 take 0.2 T1 to 3 T1).
+
+    Raises:
+        InputError: ``low`` is not > 0, ``high`` is below ``low``, or ``n_periods < 1``.
+    """
+    if not (np.isfinite(low) and np.isfinite(high) and 0.0 < low <= high):
+        raise InputError(f"need 0 < low <= high periods in s, got {low}, {high}")
+    if int(n_periods) < 1:
+        raise InputError(f"n_periods must be >= 1, got {n_periods}")
+    periods = np.geomspace(low, high, int(n_periods))
+    spectrum = response_spectrum(acceleration, dt, periods, damping).pseudo_acceleration
+    with np.errstate(divide="ignore"):
+        return np.exp(np.mean(np.log(spectrum), axis=1))
 
 
 def velocity_displacement(acceleration: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
