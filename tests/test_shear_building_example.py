@@ -89,7 +89,8 @@ def test_fragility_writes_where_it_is_told(run, tmp_path):
     ("arguments", "message"),
     [
         (["--im", "arias"], "unknown intensity measure 'arias'"),
-        (["--limit-states", "pid=5.0"], "no record exceeds it"),
+        (["--im", "sa:-1"], "periods must be numbers of s > 0"),
+        (["--config", "nowhere.toml"], "nowhere.toml"),
         (["--limit-states", "drift=0.01"], "demand one of pid, pfa"),
         (["--model", "nothing"], "no saved model 'nothing'"),
     ],
@@ -106,3 +107,72 @@ def test_demands_writes_the_sample_pelicun_reads(run, capsys):
     assert header[1:5] == [f"1-PID-{s}-1" for s in range(1, 5)]
     assert "1-PFA-0-1" in header and units[header.index("1-PFA-0-1")] == "g"
     assert len(lines) == 2 + 12
+
+
+def test_fragility_goes_on_past_a_failed_record_and_an_unreached_limit_state(
+    run, capsys, monkeypatch
+):
+    from cphysfno_core import CompositeModel, InputError
+
+    data = load_dataset(run / "dataset.h5")
+    strongest = float(np.abs(data.motions("test").acceleration).max())
+    predict = CompositeModel.predict
+
+    def failing(self, motions, *args, **kwargs):  # as physics that diverges on one record
+        if np.isclose(np.abs(motions.acceleration).max(axis=1), strongest).any():
+            raise InputError("z holds NaN or Inf (first in record 0)")
+        return predict(self, motions, *args, **kwargs)
+
+    monkeypatch.setattr(CompositeModel, "predict", failing)
+    threshold = _median_peak_drift(run)
+    arguments = ["fragility", str(run), "--records", "10", "--bootstrap", "5", "--im", "sa:0.4"]
+    assert main([*arguments, "--limit-states", f"pid=5.0,{threshold:.6g}"]) == 0
+    printed = capsys.readouterr().out
+    assert "1 test records could not be predicted" in printed and "not reached" in printed
+    document = json.loads((run / "fragility" / "fragility.json").read_text())
+    assert document["skipped_records"]["test"]["count"] == 1
+    assert "z holds NaN" in next(iter(document["skipped_records"]["test"]["first"].values()))
+    assert document["intensity_measure"]["description"] == "Sa(0.4 s), 5 % damped"
+    unreached, reached = document["limit_states"].values()
+    assert unreached["simulation"]["median"] is None
+    assert "no record exceeds it" in unreached["simulation"]["note"]
+    assert reached["simulation"]["median"] > 0 and reached["surrogate"]["n_records"] == 11
+
+
+def test_fragility_flags_a_fit_of_too_few_exceedances(run, capsys):
+    data = load_dataset(run / "dataset.h5")
+    from cphysfno_core import create
+    from cphysfno_core.config.experiment import parse_config
+
+    config = parse_config(json.loads((run / "config.json").read_text()))
+    structure = create("structure", config.structure.name, **config.structure.params)
+    pid = edp.compute(data.targets("test"), structure, data.motions("test")).pid.max(axis=1)
+    threshold = float(np.sort(pid)[-3:-1].mean())  # two of the twelve records exceed it
+    arguments = ["fragility", str(run), "--records", "10", "--bootstrap", "5", "--im", "sa-avg"]
+    assert main([*arguments, "--limit-states", f"pid={threshold:.8g}"]) == 0
+    printed = capsys.readouterr().out
+    document = json.loads((run / "fragility" / "fragility.json").read_text())
+    (fits,) = document["limit_states"].values()
+    assert "only 2 of 12 records exceed it" in fits["simulation"]["flags"]
+    assert "only 2 of 12 records exceed it" in printed and "*" in printed
+    assert document["intensity_measure"]["name"] == "sa-avg"
+
+
+def test_fragility_reads_an_edited_config(run, tmp_path):
+    threshold = _median_peak_drift(run)
+    edited = tmp_path / "taller.toml"
+    text = (run.parent / "tiny.toml").read_text()
+    edited.write_text(
+        text.replace("story_heights = [4.0, 3.2, 3.2, 3.2]", "story_heights = [8.0, 6.4, 6.4, 6.4]")
+    )
+    arguments = ["fragility", str(run), "--records", "10", "--bootstrap", "5", "--out"]
+    limit = ["--limit-states", f"pid={threshold:.6g}"]
+    assert main([*arguments, str(tmp_path / "saved"), *limit]) == 0
+    assert main([*arguments, str(tmp_path / "edited"), "--config", str(edited), *limit]) == 0
+    saved, taller = (
+        json.loads((tmp_path / name / "fragility.json").read_text())["limit_states"]
+        for name in ("saved", "edited")
+    )
+    # twice the heights, half the drift ratios: fewer records exceed the same threshold
+    (saved_fit,), (taller_fit,) = saved.values(), taller.values()
+    assert taller_fit["simulation"]["n_exceeded"] < saved_fit["simulation"]["n_exceeded"]

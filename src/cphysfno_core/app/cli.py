@@ -196,22 +196,36 @@ def _fragility(args: argparse.Namespace) -> int:
         n_bootstrap=args.bootstrap,
         seed=args.seed,
         out=None if args.out is None else Path(args.out),
+        config_path=None if args.config is None else Path(args.config),
     )
-    unit = document["intensity_measure"]["unit"]
+    im = document["intensity_measure"]
     print(
         f"model {document['model']}; {document['test_records']} test records "
         f"({document['collapsed_test_records']} collapsed), {document['large_records']} "
         f"surrogate records in {document['large_seconds']:.0f} s"
     )
-    print(f"fragility medians ({unit}) and beta, simulation | surrogate | surrogate-large:")
+    for name, found in document["skipped_records"].items():
+        if found["count"]:
+            print(f"{found['count']} {name} records could not be predicted: left out of the fits")
+    print(
+        f"fragility medians ({im['description']}, {im['unit']}) and beta, "
+        "simulation | surrogate | surrogate-large (* flagged):"
+    )
+    flagged = []
     for name, fits in document["limit_states"].items():
-        cells = " | ".join(
-            "not reached"
-            if fits[source]["median"] is None
-            else f"{fits[source]['median']:.4g}, {fits[source]['beta']:.2f}"
-            for source in ("simulation", "surrogate", "surrogate-large")
-        )
-        print(f"  {name:<14} {cells}")
+        cells = []
+        for source in ("simulation", "surrogate", "surrogate-large"):
+            fit = fits[source]
+            if fit["median"] is None:
+                cells.append("not reached" if fit["n_exceeded"] == 0 else "every record")
+                continue
+            mark = "*" if fit["flags"] else ""
+            cells.append(f"{fit['median']:.4g}, {fit['beta']:.2f}{mark}")
+            flagged += [f"  * {name}, {source}: {flag}" for flag in fit["flags"]]
+        print(f"  {name:<14} " + " | ".join(cells))
+    if flagged:
+        print("fits the records may not determine:")
+        print("\n".join(flagged))
     print(f"\nwritten: {args.out or Path(args.run) / 'fragility'}")
     return 0
 
@@ -373,13 +387,20 @@ def build_parser() -> argparse.ArgumentParser:
         "--motions", help="read the new motions from a file instead (as predict reads them)"
     )
     fragility.add_argument(
-        "--model", help="a model under RUN/models (default: the C-Phys model, refined or not, "
-        "with the lowest validation error)"
+        "--model", help="a model under RUN/models (default: the trained model with the "
+        "lowest validation error on the limit states' EDPs)"
     )  # fmt: skip
     fragility.add_argument(
         "--im",
         default="sa-t1",
-        help="intensity measure: sa-t1 (5 %% damped, at the structure's T1), pga or pgv",
+        help="intensity measure: sa-t1 (5 %% damped, at the structure's T1), sa:T (at T s, "
+        "e.g. sa:1.5), sa-avg (geometric mean from 0.2 T1 to 3 T1), sa-avg:A-B (from A to B "
+        "s), pga or pgv; default %(default)s",
+    )
+    fragility.add_argument(
+        "--config",
+        help="an edited config file to use instead of the run's saved config.json (its "
+        "structure and ground-motion source)",
     )
     fragility.add_argument("--bootstrap", type=int, default=200, help="bootstrap resamples")
     fragility.add_argument("--seed", type=int, default=0, help="seeds the motions and bootstrap")

@@ -6,7 +6,8 @@ the surrogate's prediction of the same records; then from the surrogate alone on
 number of new motions drawn from the run's ground-motion source (or read from a file).
 Each curve is a lognormal fragility fitted by maximum likelihood on exceedance
 (:mod:`cphysfno_core.reporting.fragility`) against an intensity measure: Sa(T1, 5 %) at
-the structure's first elastic period, PGA or PGV.
+the structure's first elastic period, Sa at any period, Sa_avg over a period range, PGA or
+PGV (:mod:`cphysfno_core.reporting.intensity_measures`).
 
 The demand of a record is the largest over stories of its peak story drift ratio (PID),
 or the largest over floors of its peak absolute floor acceleration (PFA, m/s^2). A record
@@ -30,12 +31,13 @@ from typing import Any
 import numpy as np
 
 from ..api.registry import get_registry
-from ..config.experiment import parse_config
+from ..config.experiment import load_config, parse_config
 from ..data.datasets import load_dataset
 from ..data.layout import DATASET, MODELS
 from ..model.composite import CompositeModel
 from ..model.extrapolation import EXTRAPOLATION_FACTOR, outside_training
 from ..model.prediction_files import read_motions
+from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
 from ..reporting.fragility import (
     Fragility,
@@ -45,21 +47,10 @@ from ..reporting.fragility import (
     with_collapse,
 )
 from ..reporting.fragility_figures import plot_demand_cloud, plot_fragility
+from ..reporting.intensity_measures import IntensityMeasure, intensity_measure
 from ..signals import GroundMotions
 from ..signals.errors import ConfigError, CphysfnoWarning, ExtrapolationWarning, InputError
-from ..signals.intensity import (
-    peak_ground_acceleration,
-    peak_ground_velocity,
-    response_spectrum,
-)
 from ..signals.progress import show_progress
-
-INTENSITY_MEASURES = {
-    "sa-t1": "Sa(T1), 5 % damped, m/s^2",
-    "pga": "PGA, m/s^2",
-    "pgv": "PGV, m/s",
-}
-"""The intensity measures a fragility can be fitted against, with their units."""
 
 DEMANDS = {"pid": "peak story drift ratio (largest over stories)", "pfa": "PFA, m/s^2"}
 """The demands a limit state can be set on."""
@@ -113,24 +104,6 @@ def parse_limit_states(text: str) -> list[LimitState]:
     return states
 
 
-def intensity(name: str, motions: GroundMotions, first_period: float) -> np.ndarray:
-    """``[n]`` intensity measure ``name`` of every record.
-
-    Raises:
-        ConfigError: an unknown name (the message lists the known ones).
-    """
-    if name == "sa-t1":
-        spectrum = response_spectrum(motions.acceleration, motions.dt, [first_period])
-        return spectrum.pseudo_acceleration[:, 0]
-    if name == "pga":
-        return peak_ground_acceleration(motions.acceleration)
-    if name == "pgv":
-        return peak_ground_velocity(motions.acceleration, motions.dt)
-    raise ConfigError(
-        f"unknown intensity measure '{name}': use one of {', '.join(INTENSITY_MEASURES)}"
-    )
-
-
 def default_model(metrics: dict[str, Any], demands: tuple[str, ...] = ("PID", "PFA")) -> str:
     """The model a fragility or a demand sample uses unless told: the trained model with
     the lowest validation EDP error, the mean over stories and floors of the median
@@ -182,19 +155,25 @@ class TrainedRun:
 
 
 def load_trained_run(
-    run: Path, model_label: str | None, demands: tuple[str, ...] = ("PID", "PFA")
+    run: Path,
+    model_label: str | None,
+    demands: tuple[str, ...] = ("PID", "PFA"),
+    config_path: Path | None = None,
 ) -> TrainedRun:
-    """The run's config, the model ``model_label`` (default :func:`default_model` on the
-    ``demands``) and the structure.
+    """The run's config (or the config file ``config_path``, an edited one), the model
+    ``model_label`` (default :func:`default_model` on the ``demands``) and the structure.
 
     Raises:
-        ConfigError: the run is not finished or has no such model (the message lists those
-            it has).
+        ConfigError: the run is not finished, has no such model (the message lists those
+            it has), or the config file does not validate.
     """
     for needed in ("config.json", "metrics.json"):
         if not (run / needed).is_file():
             raise ConfigError(f"{run} is not a finished run: it has no {needed}")
-    config = parse_config(json.loads((run / "config.json").read_text()))
+    if config_path is None:
+        config = parse_config(json.loads((run / "config.json").read_text()))
+    else:
+        config = load_config(config_path)
     label = model_label or default_model(json.loads((run / "metrics.json").read_text()), demands)
     folder = run / MODELS / label
     if not (folder / "model.json").is_file():
@@ -227,9 +206,16 @@ def run_fragility(
     seed: int = 0,
     progress: bool = True,
     out: Path | None = None,
+    config_path: Path | None = None,
 ) -> dict[str, Any]:
     """Fit the fragility curves of a trained run and write ``RUN/fragility/`` (or ``out``):
     ``fragility.json``, ``fragility.png``, ``edp-im.png``.
+
+    A record whose prediction fails (its physics input holds NaN, say) is left out of the
+    fits and counted (``skipped_records``); a limit state that no record reaches (or every
+    record exceeds) gets no curve and a ``note`` while the others are fitted; a fit the
+    records may not determine is flagged (``flags``:
+    :func:`~cphysfno_core.reporting.fragility.fit_flags`).
 
     Args:
         run: a folder written by ``cphysfno run`` (``config.json``, ``metrics.json``,
@@ -239,29 +225,28 @@ def run_fragility(
             with ``seed`` (ignored with ``motions_file``).
         motions_file: motions of the large analysis from a file instead (as
             ``cphysfno predict`` reads them).
-        model_label: the model under ``models/``; default :func:`default_model`.
-        measure: the intensity measure (:data:`INTENSITY_MEASURES`).
+        model_label: the model under ``models/``; default :func:`default_model` on the
+            limit states' demands.
+        measure: the intensity measure's name
+            (:func:`~cphysfno_core.reporting.intensity_measures.intensity_measure`).
         n_bootstrap: bootstrap resamples of each fit.
         seed: seeds the draw of motions and the bootstrap.
         progress: print progress lines.
         out: the folder to write to instead of ``RUN/fragility``.
+        config_path: a config file to use instead of the run's own ``config.json`` (for
+            its structure and ground-motion source).
 
     Returns:
         The document written to ``fragility.json``.
 
     Raises:
         ConfigError: the run is not finished, the model or intensity measure is unknown.
-        InputError: a limit state that no record (or every record) reaches.
     """
     run = Path(run)
-    if measure not in INTENSITY_MEASURES:
-        raise ConfigError(
-            f"unknown intensity measure '{measure}': use one of {', '.join(INTENSITY_MEASURES)}"
-        )
     if not (run / DATASET).is_file():
         raise ConfigError(f"{run} is not a finished run: it has no {DATASET}")
     demands = tuple(dict.fromkeys(state.demand.upper() for state in limit_states))
-    trained = load_trained_run(run, model_label, demands)
+    trained = load_trained_run(run, model_label, demands, config_path)
     config, label, model, structure = (
         trained.config,
         trained.label,
@@ -269,21 +254,21 @@ def run_fragility(
         trained.structure,
     )
     t1 = float(structure.periods(1)[0])
+    im = intensity_measure(measure, t1)
     data = load_dataset(run / DATASET)
 
     rows = data._split_rows("test")
     motions = GroundMotions(data.ag[rows], data.dt)
     collapsed = data.collapsed[rows]
     standing = ~collapsed & ~np.isin(rows, list(data.failures))
-    im_test = intensity(measure, motions, t1)
+    im_test = im.of(motions)
     truth = edp.compute(data.u[rows], structure, motions)
-    mean, _ = model.predict(motions[np.flatnonzero(standing)])
-    predicted = edp.compute(mean, structure, motions[np.flatnonzero(standing)])
+    kept = motions[np.flatnonzero(standing)]
+    mean, test_failures = predict_skipping_failures(model, kept)
+    predicted = edp.compute(mean, structure, kept)
 
     started = time.perf_counter()
-    large_im, large_demands, distinct, extrapolated = _large_analysis(
-        model, structure, config, records, motions_file, measure, t1, seed, progress
-    )
+    large = _large_analysis(model, structure, config, records, motions_file, im, seed, progress)
     large_seconds = time.perf_counter() - started
 
     rng = np.random.default_rng(seed)
@@ -293,56 +278,110 @@ def run_fragility(
     document: dict[str, Any] = {
         "run": str(run),
         "model": label,
-        "intensity_measure": {"name": measure, "unit": INTENSITY_MEASURES[measure], "t1_s": t1},
+        "intensity_measure": {**im.to_dict(), "t1_s": t1},
         "test_records": int(rows.size),
         "collapsed_test_records": int(collapsed.sum()),
-        "large_records": int(large_im.size),
+        "large_records": int(large.intensity.size),
         "large_seconds": round(large_seconds, 1),
-        "large_source_records": distinct,
-        "large_extrapolated": extrapolated,
+        "large_source_records": large.distinct,
+        "large_extrapolated": large.extrapolated,
+        "skipped_records": {
+            "test": _skipped(test_failures, np.flatnonzero(standing)),
+            "large": _skipped(large.failures, np.arange(large.intensity.size)),
+        },
         "collapse": None
         if collapse is None
         else {"median": collapse.median, "beta": collapse.beta},
         "limit_states": {},
     }
+    _say_skipped(document["skipped_records"], progress)
+    known = np.isfinite(large.intensity)
     grid = np.geomspace(
-        min(im_test.min(), large_im.min()) / 3.0, max(im_test.max(), large_im.max()) * 3.0, 400
+        min(im_test.min(), large.intensity[known].min(initial=np.inf)) / 3.0,
+        max(im_test.max(), large.intensity[known].max(initial=0.0)) * 3.0,
+        400,
     )
     curves = {}
+    predicted_ok = np.isfinite(predicted.pid).all(axis=1)
+    large_ok = np.isfinite(large.demands.pid).all(axis=1)
     for state in limit_states:
         what = f"{state.name} ({measure})"
         simulated = np.where(collapsed, True, demand_values(truth, state.demand) > state.threshold)
-        simulation = fit_with_intervals(
-            im_test, simulated, rng, n_bootstrap, what=what + ", simulation"
-        )
+        simulation = _fit_or_note(im_test, simulated, rng, n_bootstrap, what + ", simulation")
         surrogate = _surrogate_fit(
-            im_test[standing], demand_values(predicted, state.demand) > state.threshold,
+            im_test[standing][predicted_ok],
+            demand_values(predicted, state.demand)[predicted_ok] > state.threshold,
             collapse, grid, rng, n_bootstrap, what + ", surrogate",
         )  # fmt: skip
-        large = _surrogate_fit(
-            large_im, demand_values(large_demands, state.demand) > state.threshold,
+        large_fit = _surrogate_fit(
+            large.intensity[large_ok],
+            demand_values(large.demands, state.demand)[large_ok] > state.threshold,
             collapse, grid, rng, n_bootstrap, what + ", surrogate-large",
         )  # fmt: skip
         document["limit_states"][state.name] = {
-            "simulation": simulation.to_dict(),
+            "simulation": simulation,
             "surrogate": surrogate,
-            "surrogate-large": large,
+            "surrogate-large": large_fit,
         }
-        curves[state.name] = {"simulation": simulation.fragility}
-        for source, fit in (("surrogate", surrogate), ("surrogate-large", large)):
+        curves[state.name] = {}
+        for source, fit in (
+            ("simulation", simulation),
+            ("surrogate", surrogate),
+            ("surrogate-large", large_fit),
+        ):
             if fit["median"] is not None:
                 curves[state.name][source] = Fragility(fit["median"], fit["beta"])
     out = run / "fragility" if out is None else Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "fragility.json").write_text(json.dumps(document, indent=2) + "\n")
-    plot_fragility(curves, im_test, INTENSITY_MEASURES[measure], out / "fragility.png")
+    axis = f"{im.description}, {im.unit}"
+    plot_fragility(curves, im_test, axis, out / "fragility.png")
     plot_demand_cloud(
         {"simulation (test)": (im_test, demand_values(truth, "pid")),
          "surrogate (test)": (im_test[standing], demand_values(predicted, "pid")),
-         "surrogate (large)": (large_im, demand_values(large_demands, "pid"))},
-        INTENSITY_MEASURES[measure], "peak story drift ratio", out / "edp-im.png",
+         "surrogate (large)": (large.intensity, demand_values(large.demands, "pid"))},
+        axis, "peak story drift ratio", out / "edp-im.png",
     )  # fmt: skip
     return document
+
+
+def _skipped(failures: dict[int, str], records: np.ndarray) -> dict[str, Any]:
+    """``{"count", "first"}``: how many records failed and the first few, by their record
+    number among ``records``, with the cause."""
+    first = dict(list(failures.items())[:5])
+    return {
+        "count": len(failures),
+        "first": {str(int(records[i])): why for i, why in first.items()},
+    }
+
+
+def _say_skipped(skipped: dict[str, dict[str, Any]], progress: bool) -> None:
+    for name, found in skipped.items():
+        if found["count"] and progress:
+            (record, why), *_ = found["first"].items()
+            show_progress(
+                f"  fragility: {found['count']} {name} records could not be predicted and are "
+                f"left out of the fits (record {record}: {why})"
+            )
+
+
+def _fit_or_note(
+    im: np.ndarray, exceeded: np.ndarray, rng: np.random.Generator, n_bootstrap: int, what: str
+) -> dict[str, Any]:
+    """The fit with its intervals and flags, or ``median`` and ``beta`` None with the
+    reason in ``note`` when the records do not give both outcomes (a limit state that no
+    record reaches is a finding, not an error)."""
+    try:
+        return fit_with_intervals(im, exceeded, rng, n_bootstrap, what=what).to_dict()
+    except InputError as error:
+        return {
+            "median": None,
+            "beta": None,
+            "note": str(error),
+            "n_records": int(np.size(im)),
+            "n_exceeded": int(np.sum(exceeded)),
+            "flags": [],
+        }
 
 
 def _surrogate_fit(
@@ -354,25 +393,41 @@ def _surrogate_fit(
     n_bootstrap: int,
     what: str,
 ) -> dict[str, Any]:
-    """The surrogate's curve: its non-collapse fit, combined with ``collapse`` when there
-    is one and summarised by the closest lognormal; ``median`` and ``beta`` None, with the
-    reason in ``note``, when the surrogate's records do not give both outcomes (a
-    surrogate that never predicts the limit state is a finding, not an error)."""
-    try:
-        fit = fit_with_intervals(im, exceeded, rng, n_bootstrap, what=what)
-    except InputError as error:
-        return {"median": None, "beta": None, "note": str(error), "n_records": int(im.size)}
-    result = fit.to_dict()
-    if collapse is not None:
-        combined = lognormal_through(with_collapse(fit.fragility, collapse, grid), grid)
+    """The surrogate's curve (:func:`_fit_or_note`): its non-collapse fit, combined with
+    ``collapse`` when there is one and summarised by the closest lognormal."""
+    result = _fit_or_note(im, exceeded, rng, n_bootstrap, what)
+    if collapse is not None and result["median"] is not None:
+        fit = Fragility(result["median"], result["beta"])
+        combined = lognormal_through(with_collapse(fit, collapse, grid), grid)
         result.update(
             {
                 "median": combined.median,
                 "beta": combined.beta,
-                "non_collapse": {"median": fit.fragility.median, "beta": fit.fragility.beta},
+                "non_collapse": {"median": fit.median, "beta": fit.beta},
             }
         )
     return result
+
+
+@dataclass(frozen=True)
+class LargeAnalysis:
+    """The surrogate's predictions of the large set.
+
+    Attributes:
+        intensity: ``[N]`` the intensity measure of each record.
+        demands: the EDPs of each record (NaN for the records in ``failures``).
+        distinct: the most records one draw of the source gave where that is fewer than
+            asked (a finite set, see :func:`draw`), else None.
+        extrapolated: how many records lie outside the model's training range
+            (:func:`outside_training`).
+        failures: record index -> why its prediction failed.
+    """
+
+    intensity: np.ndarray
+    demands: edp.EDPs
+    distinct: int | None
+    extrapolated: int
+    failures: dict[int, str]
 
 
 def _large_analysis(
@@ -381,16 +436,13 @@ def _large_analysis(
     config: Any,
     records: int,
     motions_file: Path | None,
-    measure: str,
-    t1: float,
+    im: IntensityMeasure,
     seed: int,
     progress: bool,
-) -> tuple[np.ndarray, edp.EDPs, int | None, int]:
-    """Intensities ``[N]`` and EDPs of the surrogate's predictions for the large set,
-    predicted :data:`CHUNK` records at a time; the most records one draw of the source
-    gave where that is fewer than asked (a finite set, see :func:`draw`), else None; and
-    how many records lie outside the model's training range (:func:`outside_training`),
-    said once at the end instead of warned for every chunk."""
+) -> LargeAnalysis:
+    """The large set predicted :data:`CHUNK` records at a time, with progress (records per
+    second and time left) after each chunk; records outside the training range are said
+    once at the end instead of warned for every chunk."""
     if motions_file is not None:
         source_motions = read_motions(motions_file)
         n = source_motions.n_records
@@ -405,6 +457,7 @@ def _large_analysis(
     started = time.perf_counter()
     distinct = None
     extrapolated = 0
+    failures: dict[int, str] = {}
     training_pga = getattr(model, "training_pga_", None)
     for start in range(0, n, CHUNK):
         stop = min(start + CHUNK, n)
@@ -417,12 +470,17 @@ def _large_analysis(
         extrapolated += int(outside_training(chunk, training_pga).sum())
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ExtrapolationWarning)
-            mean, _ = model.predict(chunk)
+            mean, failed = predict_skipping_failures(model, chunk)
+        failures.update({start + i: why for i, why in failed.items()})
         parts.append(edp.compute(mean, structure, chunk))
-        intensities.append(intensity(measure, chunk, t1))
+        intensities.append(im.of(chunk))
         if progress:
             elapsed = time.perf_counter() - started
-            show_progress(f"  fragility: {stop}/{n} records predicted ({elapsed:.0f} s)")
+            rate = stop / max(elapsed, 1e-9)
+            show_progress(
+                f"  fragility: {stop}/{n} records predicted ({rate:.0f} records/s, about "
+                f"{(n - stop) / rate:.0f} s left)"
+            )
     demands = edp.EDPs(
         np.concatenate([p.pid for p in parts]),
         np.concatenate([p.rid for p in parts]),
@@ -440,7 +498,7 @@ def _large_analysis(
             f"  fragility: the ground-motion source gives at most {distinct} records a draw; "
             "the large set was drawn in rounds (a scaled source scales each round anew)"
         )
-    return np.concatenate(intensities), demands, distinct, extrapolated
+    return LargeAnalysis(np.concatenate(intensities), demands, distinct, extrapolated, failures)
 
 
 def draw(source: Any, n: int, rng: np.random.Generator) -> tuple[GroundMotions, int]:

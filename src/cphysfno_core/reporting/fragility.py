@@ -66,6 +66,8 @@ class FragilityFit:
         beta_interval: ``(low, high)`` bootstrap percentile interval of beta.
         n_records: records in the fit.
         n_exceeded: of which exceeded the limit state.
+        flags: why the records may not determine the curve (:func:`fit_flags`); empty for
+            a fit they support.
     """
 
     fragility: Fragility
@@ -73,6 +75,7 @@ class FragilityFit:
     beta_interval: tuple[float, float]
     n_records: int
     n_exceeded: int
+    flags: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
         """JSON-ready: ``median``, ``beta``, their intervals and the counts."""
@@ -82,7 +85,38 @@ class FragilityFit:
             "beta_interval": list(self.beta_interval),
             "n_records": self.n_records,
             "n_exceeded": self.n_exceeded,
+            "flags": list(self.flags),
         }
+
+
+MIN_OUTCOMES = 5
+"""Fewest records on each side of a limit state (exceeding it, and not) for a fit that
+:func:`fit_flags` does not flag."""
+
+
+def fit_flags(
+    fragility: Fragility, intensity: np.ndarray, exceeded: np.ndarray
+) -> tuple[str, ...]:
+    """Why the records ``(intensity [n], exceeded [n])`` may not determine ``fragility``:
+    beta at :data:`BETA_FLOOR` or :data:`BETA_CEILING` (the records separate perfectly, or
+    do not follow the intensity), fewer than :data:`MIN_OUTCOMES` records exceeding the
+    limit state or fewer not exceeding it, a median outside the records' intensities (an
+    extrapolation)."""
+    x = np.asarray(intensity, dtype=np.float64)
+    y = np.asarray(exceeded, dtype=bool)
+    flags = []
+    if fragility.beta <= BETA_FLOOR * 1.01 or fragility.beta >= BETA_CEILING * 0.99:
+        flags.append(f"beta {fragility.beta:.3g} at its bound")
+    if y.sum() < MIN_OUTCOMES:
+        flags.append(f"only {int(y.sum())} of {y.size} records exceed it")
+    if (~y).sum() < MIN_OUTCOMES:
+        flags.append(f"only {int((~y).sum())} of {y.size} records stay below it")
+    if not x.min() <= fragility.median <= x.max():
+        flags.append(
+            f"median {fragility.median:.4g} outside the records' intensities "
+            f"({x.min():.4g}-{x.max():.4g})"
+        )
+    return tuple(flags)
 
 
 def _check(intensity: np.ndarray, exceeded: np.ndarray, what: str) -> tuple[np.ndarray, ...]:
@@ -171,6 +205,7 @@ def fit_with_intervals(
         tuple(float(v) for v in np.percentile(betas, tails)),
         int(x.size),
         int(y.sum()),
+        fit_flags(fragility, x, y),
     )
 
 

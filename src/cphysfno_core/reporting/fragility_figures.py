@@ -29,7 +29,7 @@ def plot_fragility(
 
     Args:
         curves: limit state name -> source (simulation, surrogate, surrogate-large) ->
-            fragility.
+            fragility (none for a limit state no source could fit).
         intensities: ``[n]`` the test records' intensity measures.
         intensity_label: the measure with its unit, for the axis.
         path: the PNG to write.
@@ -50,7 +50,10 @@ def plot_fragility(
         ax.set_title(name)
         ax.set_xlabel(intensity_label)
         ax.set_ylabel("probability of exceedance")
-        ax.legend(fontsize=7, loc="upper left")
+        if sources:
+            ax.legend(fontsize=7, loc="upper left")
+        else:
+            ax.text(0.5, 0.5, "no fit: see fragility.json", ha="center", transform=ax.transAxes)
     for ax in axes[n:]:
         ax.set_visible(False)
     fig.savefig(path, dpi=120)
