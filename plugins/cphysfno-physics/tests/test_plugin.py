@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cphysfno_physics import EquivalentLinear, ModalReduction, RelaxedSolver
+from cphysfno_physics import EquivalentLinear, ModalReduction, RelaxedSolver, Stick
 
 from cphysfno_core import (
     CapabilityError,
@@ -26,9 +26,10 @@ def test_registry_creates_each_by_name(name):
     assert component.name == name
 
 
-def test_entry_point_module_registers_the_three():
+def test_entry_point_module_registers_the_four():
     registry = Registry(autoload=False, plugins=("cphysfno_physics.plugin",))
-    assert registry.names("preprocessor") == ["els", "modal", "relaxed"]
+    assert registry.names("preprocessor") == ["els", "modal", "relaxed", "stick"]
+    assert registry.get("preprocessor", "stick") is Stick
     assert registry.broken == []
 
 

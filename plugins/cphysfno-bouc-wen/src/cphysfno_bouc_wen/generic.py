@@ -250,7 +250,9 @@ def story_test_kernel(functions: LawFunctions, n_states: int):
             shear[0, s] = force(coef[s], drift[0, s], state)
             for k in range(p - 1):
                 speed = drift[k + 1, s] - drift[k, s]
-                substeps = max(1, int(np.ceil(abs(speed) / largest_step[s])))
+                substeps = 1
+                if largest_step[s] > 0.0:
+                    substeps = max(1, int(np.ceil(abs(speed) / largest_step[s])))
                 h = 1.0 / substeps
                 for sub in range(substeps):
                     v0 = drift[k, s] + speed * h * sub

@@ -42,8 +42,9 @@ PerStory = Positive | tuple[Positive, ...]
 
 STORY_TEST_RESOLUTION = 1e-3
 """Largest Runge-Kutta step of the story test (:meth:`ShearBuilding.story_shears`) as a
-fraction of the story's yield drift: where a law turns a corner within a step, its force
-there is off by at most about half a step."""
+fraction of the story's largest drift: where a law turns a corner within a step, its force
+there is off by at most about half a step. The steps depend on the drift history only, so
+that the shears change continuously with the law's parameters."""
 
 MAX_STEP_ANGLE = 0.45
 """Largest ``omega_max h`` (rad) of an automatically chosen Runge-Kutta step ``h``: the
@@ -380,8 +381,7 @@ class ShearBuilding(Structure):
         Each story starts from rest and its law is driven along its column of ``drift``,
         linear between the samples, the law's rate integrated over each increment with
         classical Runge-Kutta steps of at most :data:`STORY_TEST_RESOLUTION` times the
-        story's yield drift (one step an increment for a law without one) and ``settle``
-        after each
+        story's largest drift and ``settle`` after each
         (the stories of a shear building are independent springs, so this is also their
         part in any static analysis).
 
@@ -401,11 +401,7 @@ class ShearBuilding(Structure):
                 f"shape {drift.shape}"
             )
         law = self.story_law
-        yield_drift = law.yield_drift(self.n_stories)
-        if yield_drift is None:
-            largest_step = np.full(self.n_stories, np.inf)
-        else:
-            largest_step = STORY_TEST_RESOLUTION * np.asarray(yield_drift, dtype=np.float64)
+        largest_step = STORY_TEST_RESOLUTION * np.abs(drift).max(axis=0, initial=0.0)
         drive = story_test_kernel(law.functions(), law.n_states)
         return drive(
             np.ascontiguousarray(self.law_coefficients), np.ascontiguousarray(drift), largest_step

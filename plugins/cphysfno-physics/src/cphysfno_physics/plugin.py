@@ -7,9 +7,10 @@ import cphysfno_core
 from .els import EquivalentLinear
 from .modal import ModalReduction
 from .relaxed import RelaxedSolver
+from .stick import Stick
 
 
 @cphysfno_core.hookimpl
 def cphysfno_preprocessors() -> list[type]:
-    """The physics preprocessors ``els``, ``modal`` and ``relaxed``."""
-    return [EquivalentLinear, ModalReduction, RelaxedSolver]
+    """The physics preprocessors ``els``, ``modal``, ``relaxed`` and ``stick``."""
+    return [EquivalentLinear, ModalReduction, RelaxedSolver, Stick]

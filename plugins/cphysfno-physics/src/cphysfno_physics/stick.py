@@ -1,0 +1,128 @@
+"""Nonlinear stick: a shear building whose story laws are fitted to the structure's pushover."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import numpy as np
+from pydantic import Field
+
+import cphysfno_core
+from cphysfno_core import (
+    ConfigError,
+    GroundMotions,
+    PhysicsPreprocessor,
+    Stories,
+    Structure,
+    create,
+)
+from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
+
+from .fitted import check_fitted
+from .stick_calibration import LAW_SPACES, calibrate
+
+DriftRatio = Annotated[float, Field(gt=0.0, le=0.2)]
+
+
+class Stick(PhysicsPreprocessor):
+    """``z``: the response of a nonlinear shear building (a *stick*) fitted to the structure.
+
+    :meth:`fit` pushes the structure (capability ``pushover``) with a lateral pattern
+    (``pattern``, or its first mode times its floor masses): monotonically to a roof drift
+    ratio of ``target_drift_ratio``, and through one cycle at each of
+    ``cycle_amplitudes``. From the curves of its stories it builds a ``shear-building``
+    (:func:`~cphysfno_physics.stick_calibration.calibrate`): the floor masses, the story
+    heights, initial stiffnesses that give the structure's first period, the structure's
+    damping, and one story law for every story, chosen among ``laws`` and fitted story by
+    story to the cyclic curves. :meth:`transform` simulates that building on its compiled
+    kernel; the structure is not called again.
+
+    The stick has one degree of freedom a floor: it cannot follow torsion, strong higher
+    modes or a building whose stories do not behave as shear springs (a soft first story
+    that takes the whole drift, a tall flexural wall); the fit errors and the periods it
+    records say how far it is from the structure.
+
+    Fitted attributes:
+        calibration_: the :class:`~cphysfno_physics.stick_calibration.StickCalibration`
+            (pushovers, stiffnesses, damping, every law's fit and the chosen one),
+            JSON-serialisable with its ``to_dict``.
+        stick_: the ``shear-building`` that is the stick.
+        floors_: ``[n_outputs]`` the stick's floor that gives each output.
+    """
+
+    name = "stick"
+    requires = frozenset({"pushover", "stories", "equivalent_linear_system"})
+
+    class Params(cphysfno_core.Params):
+        target_drift_ratio: DriftRatio = Field(
+            0.03, description="roof drift ratio of the monotonic pushover"
+        )
+        cycle_amplitudes: tuple[DriftRatio, ...] = Field(
+            (0.0025, 0.005, 0.01, 0.02),
+            min_length=1,
+            description="roof drift ratio of each cycle of the cyclic pushover, in order",
+        )
+        points_per_cycle: int = Field(
+            80, ge=8, multiple_of=4, description="pushover steps a cycle, a multiple of 4"
+        )
+        laws: tuple[str, ...] = Field(
+            tuple(LAW_SPACES),
+            min_length=1,
+            description=f"story laws to choose from: {', '.join(LAW_SPACES)}",
+        )
+        pattern: tuple[Annotated[float, Field(ge=0.0)], ...] | None = Field(
+            None,
+            description="lateral load on each floor, bottom up (None: the first mode times "
+            "the floor masses)",
+        )
+        period_tolerance: float = Field(
+            0.1,
+            gt=0.0,
+            description="relative difference between a period of the stick and the "
+            "structure's beyond which fit warns",
+        )
+
+    def fit(self, structure: Structure) -> Stick:
+        """Push the structure, fit the stick and build it.
+
+        Raises:
+            CapabilityError: the structure lacks ``pushover``, ``stories`` or
+                ``equivalent_linear_system``.
+            ConfigError: its stories are not floors one above the other, or an output is
+                not a floor; a law is not one the calibration fits.
+        """
+        self.check(structure)
+        p = self.params
+        floors = _floors(structure.stories(), structure.n_outputs, structure.name)
+        pattern = None if p.pattern is None else np.asarray(p.pattern)
+        backbone = structure.story_pushover(monotonic_protocol(p.target_drift_ratio), pattern)
+        cyclic = structure.story_pushover(
+            cyclic_protocol(p.cycle_amplitudes, p.points_per_cycle), backbone.pattern
+        )
+        self.calibration_ = calibrate(structure, backbone, cyclic, p.laws, p.period_tolerance)
+        self.stick_ = create("structure", "shear-building", **self.calibration_.shear_building())
+        self.floors_ = floors
+        return self
+
+    def transform(self, motions: GroundMotions) -> np.ndarray:
+        """``[n_records, n_steps, n_outputs]`` floor displacements (m) of the stick on the
+        motion's grid."""
+        check_fitted(self, "stick_")
+        return self.stick_.simulate(motions).displacement[:, :, self.floors_]
+
+
+def _floors(stories: Stories, n_outputs: int, name: str) -> np.ndarray:
+    """``[n_outputs]`` the stick floor (story top, from 0) of each output.
+
+    Raises:
+        ConfigError: the stories are not stacked (each from the top of the one below), or
+            an output is no story's top.
+    """
+    stacked = stories.lower == (None, *stories.upper[:-1])
+    tops = {output: floor for floor, output in enumerate(stories.upper)}
+    if not stacked or set(tops) != set(range(n_outputs)):
+        raise ConfigError(
+            f"stick: structure '{name}' needs stories one above the other whose tops are its "
+            f"outputs (got bottoms {stories.lower}, tops {stories.upper} for {n_outputs} outputs)"
+        )
+    return np.array([tops[i] for i in range(n_outputs)])

@@ -1,0 +1,401 @@
+"""Story laws fitted to a structure's pushover: the calibration of the ``stick`` preprocessor.
+
+Each candidate law (a registered story law with a yield drift: ``bilinear``,
+``peak-oriented``, ``bouc-wen``) is fitted to every story's cyclic shear-drift curve by
+least squares on the story shear, replaying the story's drift history through the law's
+compiled functions (the story test of a ``shear-building``,
+``ShearBuilding.story_shears``, the kernel family that then simulates the stick). The
+law whose worst story fits best is chosen.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+import scipy.sparse
+
+from cphysfno_core import (
+    ConfigError,
+    CphysfnoError,
+    CphysfnoWarning,
+    LinearSystem,
+    StoryPushover,
+    Structure,
+    create,
+)
+
+MAX_ITERATIONS = 50
+"""Least-squares iterations from each start (the Jacobian's evaluations aside)."""
+
+POST_YIELD_SHARE = 0.2
+"""Last fraction of the monotonic curve whose slope starts the post-yield stiffness."""
+
+
+@dataclass(frozen=True)
+class LawSpace:
+    """How a story law's parameters are fitted: per story the vector ``x`` (the
+    post-yield ratio ``alpha``, the yield drift over its first guess, and the law's own
+    shape parameters), its bounds and starts, and the law's parameters from it.
+
+    Attributes:
+        name: the story law's registry name.
+        shape_starts: starting values of the shape parameters (one tuple per start).
+        shape_bounds: ``(lower, upper)`` of each shape parameter.
+        parameters: ``parameters(alpha, u_y, shape) -> dict`` of the law's ``Params``
+            fields for one story (``u_y`` in m).
+    """
+
+    name: str
+    shape_starts: tuple[tuple[float, ...], ...] = ((),)
+    shape_bounds: tuple[tuple[float, float], ...] = ()
+    parameters: Callable[[float, float, Sequence[float]], dict[str, float]] = field(
+        default=lambda alpha, u_y, shape: {"alpha": alpha, "yield_displacement": u_y}
+    )
+
+
+def _bouc_wen(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, float]:
+    """``A = 1``, exponent ``n``, ``beta + gamma = 1 / u_y^n`` shared as ``(s, 1 - s)``: the
+    hysteretic part saturates at ``u_y`` and ``s`` sets the unloading shape."""
+    exponent, share = shape
+    scale = u_y**-exponent
+    return {
+        "alpha": alpha,
+        "exponent": exponent,
+        "yield_displacement": u_y,
+        "beta": share * scale,
+        "gamma": (1.0 - share) * scale,
+    }
+
+
+LAW_SPACES = {
+    "bilinear": LawSpace("bilinear"),
+    "peak-oriented": LawSpace("peak-oriented"),
+    "bouc-wen": LawSpace(
+        "bouc-wen",
+        shape_starts=((1.5, 0.5), (4.0, 0.5), (10.0, 0.5)),
+        shape_bounds=((1.0, 20.0), (0.02, 0.98)),
+        parameters=_bouc_wen,
+    ),
+}
+"""The laws the calibration can fit, by name."""
+
+
+@dataclass(frozen=True)
+class LawFit:
+    """One law fitted to every story.
+
+    Attributes:
+        parameters: the law's ``Params`` fields, one value per story (bottom first).
+        errors: ``[d]`` each story's RMS shear error over the cyclic curve divided by the
+            story's largest absolute shear on it.
+    """
+
+    parameters: dict[str, list[float]]
+    errors: list[float]
+
+    @property
+    def worst(self) -> float:
+        return max(self.errors)
+
+
+@dataclass(frozen=True)
+class StickCalibration:
+    """A shear building fitted to a structure: what builds it and how well it fits.
+
+    Attributes:
+        backbone: the monotonic pushover (initial stiffnesses, first guesses).
+        cyclic: the cyclic pushover the laws are fitted to.
+        stiffness: ``[d]`` initial story stiffnesses of the stick, N/m: the backbone's
+            initial slopes times ``stiffness_scale``.
+        stiffness_scale: the factor that gives the stick the structure's first period.
+        periods: the structure's first periods, s.
+        stick_periods: the stick's periods, s (as many).
+        damping_ratio: the structure's damping ratio in its first mode.
+        rayleigh_modes: the two modes of the stick's Rayleigh damping, or ``None`` for
+            classical damping.
+        law: the chosen law's name.
+        fits: every candidate law's fit, by name.
+    """
+
+    backbone: StoryPushover
+    cyclic: StoryPushover
+    stiffness: np.ndarray
+    stiffness_scale: float
+    periods: np.ndarray
+    stick_periods: np.ndarray
+    damping_ratio: float
+    rayleigh_modes: tuple[int, int] | None
+    law: str
+    fits: dict[str, LawFit]
+
+    def story_law(self) -> dict[str, Any]:
+        """The chosen law as a ``shear-building``'s ``story_law``: its name and one value
+        per story of each parameter."""
+        values = self.fits[self.law].parameters
+        return {"name": self.law, **{key: tuple(value) for key, value in values.items()}}
+
+    def shear_building(self) -> dict[str, Any]:
+        """The parameters of the ``shear-building`` that is the stick."""
+        return {
+            "masses": tuple(self.backbone.masses.tolist()),
+            "stiffnesses": tuple(self.stiffness.tolist()),
+            "story_heights": tuple(self.backbone.heights.tolist()),
+            "story_law": self.story_law(),
+            "damping_ratio": self.damping_ratio,
+            "rayleigh_modes": self.rayleigh_modes,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """Everything as plain JSON-compatible values (SI units)."""
+        return {
+            "backbone": self.backbone.to_dict(),
+            "cyclic": self.cyclic.to_dict(),
+            "stiffness": self.stiffness.tolist(),
+            "stiffness_scale": self.stiffness_scale,
+            "periods": self.periods.tolist(),
+            "stick_periods": self.stick_periods.tolist(),
+            "damping_ratio": self.damping_ratio,
+            "rayleigh_modes": None if self.rayleigh_modes is None else list(self.rayleigh_modes),
+            "law": self.law,
+            "fits": {
+                name: {"parameters": fit.parameters, "errors": fit.errors}
+                for name, fit in self.fits.items()
+            },
+        }
+
+    @classmethod
+    def from_dict(cls, document: dict[str, Any]) -> StickCalibration:
+        """The calibration :meth:`to_dict` wrote."""
+        modes = document["rayleigh_modes"]
+        return cls(
+            backbone=StoryPushover.from_dict(document["backbone"]),
+            cyclic=StoryPushover.from_dict(document["cyclic"]),
+            stiffness=np.asarray(document["stiffness"], dtype=np.float64),
+            stiffness_scale=float(document["stiffness_scale"]),
+            periods=np.asarray(document["periods"], dtype=np.float64),
+            stick_periods=np.asarray(document["stick_periods"], dtype=np.float64),
+            damping_ratio=float(document["damping_ratio"]),
+            rayleigh_modes=None if modes is None else (int(modes[0]), int(modes[1])),
+            law=document["law"],
+            fits={
+                name: LawFit(fit["parameters"], fit["errors"])
+                for name, fit in document["fits"].items()
+            },
+        )
+
+
+def chain_periods(masses: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
+    """``[d]`` periods (s, longest first) of the shear building of floor ``masses`` (kg)
+    and story ``stiffness`` (N/m)."""
+    k = np.asarray(stiffness, dtype=np.float64)
+    above = np.append(k[1:], 0.0)
+    matrix = np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
+    root = 1.0 / np.sqrt(np.asarray(masses, dtype=np.float64))
+    squares = np.linalg.eigvalsh(matrix * np.outer(root, root))
+    return 2.0 * np.pi / np.sqrt(squares)
+
+
+def first_guess(backbone: StoryPushover, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``([d] alpha, [d] u_y in m)``: the bilinear curve of each story's initial stiffness
+    through the end of its monotonic curve, with the slope of the curve's last
+    :data:`POST_YIELD_SHARE` after yield."""
+    drift, shear = backbone.story_drift, backbone.story_shear
+    p = drift.shape[0]
+    start = min(int((1.0 - POST_YIELD_SHARE) * (p - 1)), p - 2)
+    slope = (shear[-1] - shear[start]) / (drift[-1] - drift[start])
+    alpha = np.clip(slope / stiffness, 0.0, 0.9)
+    end = drift[-1]
+    u_y = (shear[-1] - alpha * stiffness * end) / (stiffness * (1.0 - alpha))
+    return alpha, np.clip(u_y, 1e-3 * end, end)
+
+
+def fit_law(
+    space: LawSpace,
+    cyclic: StoryPushover,
+    stiffness: np.ndarray,
+    guess: tuple[np.ndarray, np.ndarray],
+) -> LawFit:
+    """Least squares on the story shears over the cyclic curve, every story at once (a
+    story's parameters touch its own shears only), from each of the law's starts; the
+    best start per story is kept.
+
+    Args:
+        space: the law and its parameters.
+        cyclic: the curves fitted.
+        stiffness: ``[d]`` the stick's initial story stiffnesses, N/m (held).
+        guess: ``([d] alpha, [d] u_y)`` from :func:`first_guess`.
+    """
+    d = cyclic.n_stories
+    alpha0, u_y0 = guess
+    scale = np.abs(cyclic.story_shear).max(axis=0)
+    scale = np.where(scale > 0.0, scale, 1.0)
+    width = 2 + len(space.shape_bounds)
+
+    def story_laws(x: np.ndarray) -> dict[str, Any]:
+        rows = x.reshape(d, width)
+        per_story = [
+            space.parameters(float(r[0]), float(r[1] * u_y0[s]), r[2:]) for s, r in enumerate(rows)
+        ]
+        return {
+            "name": space.name,
+            **{key: tuple(float(p[key]) for p in per_story) for key in per_story[0]},
+        }
+
+    def shears(x: np.ndarray) -> np.ndarray:
+        return replay(story_laws(x), cyclic, stiffness)
+
+    def residual(x: np.ndarray) -> np.ndarray:
+        return ((shears(x) - cyclic.story_shear) / scale).ravel()
+
+    lower = np.tile([0.0, 1e-3, *(b[0] for b in space.shape_bounds)], d)
+    upper = np.tile([0.99, 1e3, *(b[1] for b in space.shape_bounds)], d)
+    sparsity = scipy.sparse.kron(
+        scipy.sparse.identity(d), np.ones((cyclic.story_shear.shape[0], width))
+    )
+    # rows are ordered [point, story]: reorder the block-diagonal pattern to match
+    order = np.arange(d * cyclic.story_shear.shape[0]).reshape(d, -1).T.ravel()
+    sparsity = sparsity.tocsr()[order]
+    best_x, best_error = None, np.full(d, np.inf)
+    for shape in space.shape_starts:
+        x0 = np.column_stack([alpha0, np.ones(d), np.tile(shape, (d, 1))]).ravel()
+        x0 = np.clip(x0, lower, upper)
+        result = scipy.optimize.least_squares(
+            residual,
+            x0,
+            bounds=(lower, upper),
+            jac_sparsity=sparsity,
+            x_scale="jac",
+            xtol=1e-12,
+            ftol=1e-12,
+            gtol=1e-12,
+            max_nfev=MAX_ITERATIONS,
+        )
+        error = story_errors(shears(result.x), cyclic.story_shear)
+        if best_x is None:
+            best_x = result.x.reshape(d, width).copy()
+        better = error < best_error
+        best_x[better] = result.x.reshape(d, width)[better]
+        best_error = np.minimum(error, best_error)
+    laws = story_laws(best_x.ravel())
+    parameters = {key: list(value) for key, value in laws.items() if key != "name"}
+    return LawFit(parameters, best_error.tolist())
+
+
+def replay(story_law: dict[str, Any], curves: StoryPushover, stiffness: np.ndarray) -> np.ndarray:
+    """``[p, d]`` story shears (N) of a shear building of ``stiffness`` (N/m) and
+    ``story_law`` driven along the story drifts of ``curves``."""
+    building = create(
+        "structure",
+        "shear-building",
+        masses=tuple(curves.masses.tolist()),
+        stiffnesses=tuple(np.asarray(stiffness, dtype=np.float64).tolist()),
+        story_heights=tuple(curves.heights.tolist()),
+        story_law=story_law,
+    )
+    return building.story_shears(curves.story_drift)
+
+
+def story_errors(shear: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """``[d]`` RMS of ``shear - reference`` over the points, over the largest absolute
+    ``reference`` shear, per story (each ``[p, d]``, N)."""
+    rms = np.sqrt(np.mean((shear - reference) ** 2, axis=0))
+    peak = np.abs(reference).max(axis=0)
+    return rms / np.where(peak > 0.0, peak, 1.0)
+
+
+def fit_laws(
+    backbone: StoryPushover, cyclic: StoryPushover, stiffness: np.ndarray, laws: Sequence[str]
+) -> tuple[str, dict[str, LawFit]]:
+    """Fit every law in ``laws`` (names in :data:`LAW_SPACES`) and choose one.
+
+    The chosen law has the lowest worst-story error (:attr:`LawFit.worst`: RMS shear error
+    over the cyclic curve over the story's peak shear); a tie goes to the law listed
+    first.
+
+    Returns:
+        ``(chosen law's name, every fit by name)``.
+
+    Raises:
+        ConfigError: a name is not one the calibration can fit.
+    """
+    unknown = [name for name in laws if name not in LAW_SPACES]
+    if unknown or not laws:
+        raise ConfigError(
+            f"stick.laws: the calibration fits {', '.join(LAW_SPACES)}; got {list(laws)}"
+        )
+    guess = first_guess(backbone, stiffness)
+    fits = {name: fit_law(LAW_SPACES[name], cyclic, stiffness, guess) for name in laws}
+    chosen = min(laws, key=lambda name: fits[name].worst)
+    return chosen, fits
+
+
+def modal_damping(system: LinearSystem, n_modes: int) -> tuple[float, tuple[int, int] | None]:
+    """The damping of a stick that stands for ``system``: ``(ratio, rayleigh_modes)``.
+
+    The damping ratios of the system's first ``n_modes`` undamped modes are
+    ``phi_j^T C phi_j / (2 omega_j)`` (mass-normalised ``phi_j``). Where they are all the
+    first mode's (relative 1e-6) the stick is damped classically at that ratio
+    (``rayleigh_modes`` None); otherwise Rayleigh damping at the first mode and the mode
+    whose ratio is closest to the first's (the second mode a Rayleigh-damped structure is
+    matched at).
+    """
+    count = min(n_modes, system.n_dof)
+    squares, vectors = scipy.linalg.eigh(
+        system.stiffness, system.mass, subset_by_index=(0, count - 1)
+    )
+    ratios = np.einsum("ij,ik,kj->j", vectors, system.damping, vectors) / (2.0 * np.sqrt(squares))
+    first = float(ratios[0])
+    if count == 1 or np.allclose(ratios, first, rtol=1e-6, atol=1e-12):
+        return first, None
+    other = 1 + int(np.argmin(np.abs(ratios[1:] - first)))
+    return first, (1, other + 1)
+
+
+def calibrate(
+    structure: Structure,
+    backbone: StoryPushover,
+    cyclic: StoryPushover,
+    laws: Sequence[str],
+    period_tolerance: float,
+) -> StickCalibration:
+    """The stick of ``structure`` from its monotonic and cyclic pushovers.
+
+    - Masses, heights: the pushover's floors.
+    - Initial story stiffnesses: the backbone's initial slopes, all scaled by one factor
+      so that the stick's first period is the structure's (``structure.periods``) to
+      round-off; a :class:`~cphysfno_core.CphysfnoWarning` names every further period of
+      the stick more than ``period_tolerance`` (relative) from the structure's.
+    - Damping: :func:`modal_damping` of the structure's equivalent linear system.
+    - Story law: :func:`fit_laws` on the cyclic curves, at those stiffnesses.
+    """
+    count = min(backbone.n_stories, len(structure.periods()))
+    periods = np.asarray(structure.periods(count), dtype=np.float64)
+    initial = backbone.initial_stiffness
+    if not np.all(initial > 0.0):
+        raise CphysfnoError(
+            f"stick: the pushover of structure '{structure.name}' gives story initial slopes "
+            f"{initial.tolist()} N/m; every story needs a positive one"
+        )
+    scale = float((chain_periods(backbone.masses, initial)[0] / periods[0]) ** 2)
+    stiffness = scale * initial
+    stick_periods = chain_periods(backbone.masses, stiffness)[:count]
+    off = np.abs(stick_periods / periods - 1.0) > period_tolerance
+    if off.any():
+        warnings.warn(
+            f"stick of structure '{structure.name}': periods {stick_periods.tolist()} s against "
+            f"the structure's {periods.tolist()} s; modes {(np.flatnonzero(off) + 1).tolist()} "
+            f"differ by more than {period_tolerance:.0%}",
+            CphysfnoWarning,
+            stacklevel=2,
+        )
+    ratio, modes = modal_damping(structure.equivalent_linear_system(), backbone.n_stories)
+    law, fits = fit_laws(backbone, cyclic, stiffness, laws)
+    return StickCalibration(
+        backbone, cyclic, stiffness, scale, periods, stick_periods, ratio, modes, law, fits
+    )

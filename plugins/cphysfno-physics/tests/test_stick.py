@@ -1,0 +1,161 @@
+"""The stick of a shear building whose story laws are known: it must find those laws, its
+damping and periods, and respond as the building does."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from cphysfno_bouc_wen.shear_building import ShearBuilding
+from cphysfno_physics import Stick, StickCalibration
+
+from cphysfno_core import (
+    CapabilityError,
+    ConfigError,
+    CphysfnoWarning,
+    GroundMotions,
+    Stories,
+    create,
+)
+from cphysfno_core.testing import check_preprocessor
+
+FAST = {"cycle_amplitudes": (0.0025, 0.005, 0.01), "points_per_cycle": 40}
+"""A shorter cyclic protocol than the default, which still drives every story past yield."""
+
+BILINEAR = {"name": "bilinear", "alpha": 0.05, "yield_displacement": (0.008, 0.01, 0.012)}
+BOUC_WEN = {"name": "bouc-wen", "alpha": 0.1, "exponent": 3.0, "yield_displacement": 0.01}
+
+
+def building(law: dict, **extra) -> ShearBuilding:
+    return create(
+        "structure",
+        "shear-building",
+        masses=(2.0e4, 2.0e4, 1.5e4),
+        stiffnesses=(4.0e7, 3.0e7, 2.0e7),
+        story_heights=(4.0, 3.0, 3.0),
+        story_law=law,
+        **extra,
+    )
+
+
+@pytest.fixture(scope="module")
+def motions() -> GroundMotions:
+    """Three 10-s white-noise records that drive the stories to about twice their yield drift."""
+    rng = np.random.default_rng(0)
+    return GroundMotions(3.0 * rng.standard_normal((3, 1001)), 0.01)
+
+
+@pytest.fixture(scope="module")
+def bilinear_building() -> ShearBuilding:
+    return building(BILINEAR)
+
+
+@pytest.fixture(scope="module")
+def bilinear_stick(bilinear_building) -> Stick:
+    return Stick(**FAST).fit(bilinear_building)
+
+
+@pytest.fixture(scope="module")
+def bouc_wen_building() -> ShearBuilding:
+    return building(BOUC_WEN, rayleigh_modes=(1, 3), damping_ratio=0.03)
+
+
+@pytest.fixture(scope="module")
+def bouc_wen_stick(bouc_wen_building) -> Stick:
+    return Stick(**FAST).fit(bouc_wen_building)
+
+
+def relative_l2(z: np.ndarray, u: np.ndarray) -> np.ndarray:
+    return np.sqrt(((z - u) ** 2).sum(axis=(0, 1)) / (u**2).sum(axis=(0, 1)))
+
+
+def test_bilinear_laws_are_found_and_chosen(bilinear_stick):
+    calibration = bilinear_stick.calibration_
+    assert calibration.law == "bilinear"
+    found = calibration.fits["bilinear"].parameters
+    assert np.allclose(found["alpha"], 0.05, rtol=1e-3)
+    assert np.allclose(found["yield_displacement"], BILINEAR["yield_displacement"], rtol=1e-3)
+    assert max(calibration.fits["bilinear"].errors) < 1e-6
+    # the other laws cannot follow a bilinear loop as closely
+    assert min(calibration.fits["peak-oriented"].errors) > 1e-2
+    assert np.allclose(calibration.stiffness, [4.0e7, 3.0e7, 2.0e7], rtol=1e-9)
+    assert calibration.damping_ratio == pytest.approx(0.05)
+    assert calibration.rayleigh_modes is None
+
+
+def test_bouc_wen_laws_and_rayleigh_damping_are_found(bouc_wen_stick):
+    calibration = bouc_wen_stick.calibration_
+    assert calibration.law == "bouc-wen"
+    found = calibration.fits["bouc-wen"].parameters
+    default = 0.5 / 0.01**3.0  # beta = gamma = 1 / (2 u_y^n)
+    for key, value in {"alpha": 0.1, "exponent": 3.0, "yield_displacement": 0.01}.items():
+        assert np.allclose(found[key], value, rtol=1e-3), key
+    assert np.allclose(found["beta"], default, rtol=1e-3)
+    assert np.allclose(found["gamma"], default, rtol=1e-3)
+    assert calibration.damping_ratio == pytest.approx(0.03)
+    assert calibration.rayleigh_modes == (1, 3)
+
+
+@pytest.mark.parametrize("which", ["bilinear", "bouc_wen"])
+def test_the_stick_responds_as_the_building(which, motions, request):
+    structure = request.getfixturevalue(f"{which}_building")
+    stick = request.getfixturevalue(f"{which}_stick")
+    u = structure.simulate(motions).displacement
+    drift = np.abs(np.diff(u, axis=2, prepend=0.0)).max()
+    assert drift > 0.012  # past every story's yield drift
+    assert relative_l2(stick.transform(motions), u).max() < 1e-3
+    periods = stick.calibration_.stick_periods
+    assert np.allclose(periods, structure.periods(), rtol=1e-6)
+
+
+def test_the_stick_conforms(bilinear_building):
+    check_preprocessor(Stick(**FAST, laws=("bilinear",)), bilinear_building)
+
+
+def test_the_calibration_goes_through_json_and_back(bilinear_stick):
+    calibration = bilinear_stick.calibration_
+    again = StickCalibration.from_dict(json.loads(json.dumps(calibration.to_dict())))
+    assert again.shear_building() == calibration.shear_building()
+    assert again.to_dict() == calibration.to_dict()
+
+
+class LongFirstPeriod(ShearBuilding):
+    """Reports a first period 20 % longer than its model's (as a frame's flexure would
+    against its story springs)."""
+
+    def periods(self, n=None):
+        periods = super().periods(n).copy()
+        periods[0] *= 1.2
+        return periods
+
+
+def test_stiffness_is_scaled_to_the_first_period_and_the_others_warn():
+    structure = LongFirstPeriod(**building(BILINEAR).get_params())
+    with pytest.warns(CphysfnoWarning, match=r"modes \[2, 3\] differ by more than 10%"):
+        calibration = Stick(**FAST, laws=("bilinear",)).fit(structure).calibration_
+    assert calibration.stiffness_scale == pytest.approx(1.0 / 1.44, rel=1e-9)
+    assert calibration.stick_periods[0] == pytest.approx(structure.periods(1)[0], rel=1e-9)
+
+
+class PiersFromTheGround(ShearBuilding):
+    """Its stories all rise from the ground, as a bridge's piers do."""
+
+    def stories(self):
+        return Stories((None,) * 3, (0, 1, 2), (4.0, 3.0, 3.0))
+
+
+def test_stories_that_are_not_stacked_are_refused():
+    structure = PiersFromTheGround(**building(BILINEAR).get_params())
+    with pytest.raises(ConfigError, match="stories one above the other"):
+        Stick(**FAST).fit(structure)
+
+
+def test_a_structure_without_a_pushover_is_refused(toy):
+    with pytest.raises(CapabilityError, match=r"preprocessor 'stick'.*'toy-building'.*pushover"):
+        Stick().fit(toy)
+
+
+def test_unknown_laws_are_refused(bilinear_building):
+    with pytest.raises(ConfigError, match="stick.laws"):
+        Stick(**FAST, laws=("linear",)).fit(bilinear_building)
