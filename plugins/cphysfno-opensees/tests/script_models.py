@@ -12,6 +12,7 @@ import importlib.util
 import re
 import sys
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
@@ -182,6 +183,21 @@ def load(path: Path):
     return module
 
 
+class DirectRun(NamedTuple):
+    """What :func:`direct_run` found.
+
+    Attributes:
+        displacement: ``[T, n_outputs]`` from the gravity state, m.
+        periods: ``[n]`` from OpenSees' eigen analysis at the gravity state, s.
+        absolute_acceleration: ``[T, n_outputs]`` OpenSees' relative ``nodeAccel`` plus the
+            ground acceleration for the outputs along DOF 1, m/s^2.
+    """
+
+    displacement: np.ndarray
+    periods: np.ndarray
+    absolute_acceleration: np.ndarray
+
+
 def direct_run(
     path: Path,
     outputs: list[tuple[int, int]],
@@ -193,15 +209,14 @@ def direct_run(
     modes: tuple[int, int] = (1, 2),
     metres_per_unit: float = 1.0,
     tolerance: float = 1e-8,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> DirectRun:
     """The script analysed with OpenSeesPy alone, as one would by hand: gravity in ten
     load steps held constant, Rayleigh damping (mass and initial stiffness) matched to the
     eigen analysis of the gravity state in ``modes``, the record as a UniformExcitation in
     DOF 1, Newmark's average acceleration rule, Newton, the Transformation handler.
 
     Returns:
-        ``([T, n_outputs]`` displacements from the gravity state in m, ``[n]`` periods in
-        s from OpenSees' eigen analysis at the gravity state).
+        :class:`DirectRun`.
     """
     from cphysfno_opensees.loader import import_opensees
 
@@ -233,12 +248,15 @@ def direct_run(
     ops.algorithm("Newton")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
-    u = [rest]
+    u, accelerations = [rest], [np.zeros(len(outputs))]
     for _ in range(values.size - 1):
         assert ops.analyze(1, dt) == 0
         u.append([ops.nodeDisp(node, dof) for node, dof in outputs])
+        accelerations.append([ops.nodeAccel(node, dof) for node, dof in outputs])
     ops.wipe()
-    return (np.asarray(u) - rest) * metres_per_unit, 2.0 * np.pi / omega
+    along = np.array([dof == 1 for _, dof in outputs], dtype=float)
+    absolute = np.asarray(accelerations) * metres_per_unit + np.outer(acceleration, along)
+    return DirectRun((np.asarray(u) - rest) * metres_per_unit, 2.0 * np.pi / omega, absolute)
 
 
 def eigen_periods(path: Path, n: int, *, gravity: bool = False) -> np.ndarray:

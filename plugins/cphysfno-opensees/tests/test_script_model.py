@@ -42,13 +42,20 @@ def strong():
 
 
 def test_the_structure_is_opensees_run_directly_on_the_script(frame, frame_script, strong):
-    """Measured: 2e-15 relative L2 (the same analysis, step for step)."""
-    u = frame.simulate(strong).displacement
-    assert u.shape == (2, strong.n_steps, 2) and not frame.simulate(strong).failures
+    """Measured: 2e-15 relative L2 (the same analysis, step for step), displacements and
+    absolute floor accelerations."""
+    responses = frame.simulate(strong)
+    u = responses.displacement
+    absolute = responses.extras[cp.edp.ACCELERATION_EXTRA]
+    assert u.shape == absolute.shape == (2, strong.n_steps, 2) and not responses.failures
     for i, record in enumerate(strong.acceleration):
-        direct, _ = sm.direct_run(frame_script, [(11, 1), (21, 1)], record, strong.dt,
-                                  gravity=True)  # fmt: skip
-        assert np.all(sm.relative_l2(u[i], direct) < 1e-3)
+        direct = sm.direct_run(frame_script, [(11, 1), (21, 1)], record, strong.dt,
+                               gravity=True)  # fmt: skip
+        assert np.all(sm.relative_l2(u[i], direct.displacement) < 1e-3)
+        assert np.all(sm.relative_l2(absolute[i], direct.absolute_acceleration) < 1e-6)
+    # the floors' absolute acceleration, not the relative one: PFA above the ground's
+    pfa = cp.edp.compute(responses, frame, strong).pfa
+    np.testing.assert_allclose(pfa[:, 1:], np.abs(absolute).max(axis=1))
     linear = cp.create("preprocessor", "els").fit(frame).transform(strong)
     assert np.all(sm.relative_l2(linear, u) > 0.2)  # the columns yield
     assert frame.constraints_handler == "Transformation"
@@ -111,8 +118,10 @@ def test_the_model_in_kips_and_inches_gives_the_model_in_metres(folder, frame, s
         "structure", "opensees-model", script=str(script), outputs=FLOORS, gravity="gravity",
         length_unit="in",
     )  # fmt: skip
-    expected = frame.simulate(strong).displacement
-    assert np.all(sm.relative_l2(us.simulate(strong).displacement, expected) < 1e-3)
+    expected, found = frame.simulate(strong), us.simulate(strong)
+    assert np.all(sm.relative_l2(found.displacement, expected.displacement) < 1e-3)
+    accelerations = [r.extras[cp.edp.ACCELERATION_EXTRA] for r in (found, expected)]
+    assert np.all(sm.relative_l2(*accelerations) < 1e-6)  # m/s^2 from a model in inches
     np.testing.assert_allclose(us.periods(), frame.periods(), rtol=1e-9)
     theirs, ours = us.linear_system(), frame.linear_system()
     np.testing.assert_allclose(theirs.stiffness * sm.NEWTONS_PER_KIP, ours.stiffness, rtol=1e-9)
@@ -137,7 +146,7 @@ def test_a_leaning_column_tied_in_chains_works_where_transformation_does_not(fol
     assert "gravity state differs" in findings["Transformation"]
     u = model.simulate(strong).displacement
     for i, record in enumerate(strong.acceleration):
-        direct, periods = sm.direct_run(twin, [(11, 1), (21, 1)], record, strong.dt,
+        direct, periods, _ = sm.direct_run(twin, [(11, 1), (21, 1)], record, strong.dt,
                                         gravity=True)  # fmt: skip
         assert np.all(sm.relative_l2(u[i], direct) < 1e-3)
     np.testing.assert_allclose(model.periods(), periods, rtol=1e-3)
@@ -158,7 +167,7 @@ def test_massless_dofs_are_condensed_and_the_periods_are_opensees_eigen(folder, 
     system = model.linear_system()
     assert model.summary.dofs == ((11, 1), (12, 1), (21, 1), (22, 1))
     np.testing.assert_allclose(model.periods(), sm.eigen_periods(script, 4), rtol=1e-3)
-    direct, _ = sm.direct_run(script, [(11, 1), (21, 1)], strong.acceleration[0], strong.dt)
+    direct = sm.direct_run(script, [(11, 1), (21, 1)], strong.acceleration[0], strong.dt)[0]
     assert np.all(sm.relative_l2(model.simulate(strong).displacement[0], direct) < 1e-3)
     factors = model.summary.damping_factors
     naive = factors.mass_factor * system.mass + factors.stiffness_factor * system.stiffness
@@ -201,7 +210,7 @@ def test_a_rigid_link_is_eliminated_exactly(folder):
     system = model.linear_system()
     assert system.n_dof == 3
     motion = sm.records(n=1, peak=1.0)
-    direct, _ = sm.direct_run(script, [(3, 1), (3, 2)], motion.acceleration[0], motion.dt)
+    direct = sm.direct_run(script, [(3, 1), (3, 2)], motion.acceleration[0], motion.dt)[0]
     u = model.simulate(motion).displacement[0]
     assert np.all(sm.relative_l2(u, direct) < 1e-3)
 

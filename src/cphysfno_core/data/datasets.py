@@ -155,7 +155,7 @@ def parts_folder(path: Path) -> Path:
     return path.with_name(path.name + ".parts")
 
 
-EXTRA_UNITS = {"story_drift": "m", "story_shear": "N"}
+EXTRA_UNITS = {"story_drift": "m", "story_shear": "N", "absolute_acceleration": "m/s^2"}
 """Units of the extra channels the built-in structures simulate."""
 
 

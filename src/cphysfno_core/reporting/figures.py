@@ -189,7 +189,8 @@ def edp_scatter(
             ax.set_visible(False)
             continue
         values = [true_pid[:, story], *(p[:, story] for p in predicted_pid.values())]
-        upper = 100 * 1.05 * max(float(np.nanmax(v)) for v in values)
+        finite = [v[np.isfinite(v)] for v in values]
+        upper = 100 * 1.05 * max((float(v.max()) for v in finite if v.size), default=0.0)
         upper = upper if np.isfinite(upper) and upper > 0 else 1.0
         ax.plot([0, upper], [0, upper], color="k", lw=0.8)
         for (label, pid), style in zip(predicted_pid.items(), styles, strict=True):

@@ -85,7 +85,8 @@ def run_records(
             exception's ``history``, where it has one), and the others go on.
         acceleration: ``[n, T]`` ground accelerations in m/s^2.
         dt: time step of the records in s.
-        n_outputs: outputs per sample.
+        n_outputs: columns ``analyse`` returns per sample (the outputs' displacements,
+            and for a structure that records them their accelerations after them).
         workers: worker processes run in parallel.
         records_per_worker: records a worker analyses before it is replaced by a fresh one
             (bounds the memory OpenSees leaks).

@@ -20,6 +20,7 @@ from cphysfno_core import (
     Responses,
     Structure,
     check_time_step,
+    edp,
 )
 
 from .runner import run_records
@@ -71,7 +72,17 @@ class OpenSeesStructure(Structure):
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
         """A picklable ``analyse(a_g [T] m/s^2, dt s) -> [T, n_outputs]`` (m) that builds
         the model in the calling process and raises
-        :class:`~cphysfno_opensees.transient.AnalysisFailed` when it does not converge."""
+        :class:`~cphysfno_opensees.transient.AnalysisFailed` when it does not converge.
+
+        A structure whose :meth:`ground_influence` is not None returns ``[T, 2
+        n_outputs]`` instead: the displacements, then the outputs' accelerations relative
+        to the ground as OpenSees computes them (``nodeAccel``; m/s^2, rad/s^2)."""
+
+    def ground_influence(self) -> np.ndarray | None:
+        """``[n_outputs]`` how much of the ground acceleration each output takes on (1 for
+        a translation along the excitation, 0 otherwise), for a structure whose analysis
+        records accelerations; None (the default) for one whose analysis does not."""
+        return None
 
     def simulate(self, motions: GroundMotions, *, dt: float | None = None) -> Responses:
         """Nonlinear response of every record, analysed in worker processes.
@@ -82,7 +93,11 @@ class OpenSeesStructure(Structure):
                 motion's resamples the motion onto that grid and analyses it there.
 
         Returns:
-            ``[n, T', n_outputs]`` displacements in m on the analysed grid. A collapsed
+            ``[n, T', n_outputs]`` displacements in m on the analysed grid, and for a
+            structure whose analysis records accelerations (:meth:`ground_influence`) the
+            absolute accelerations of the outputs as the extra ``absolute_acceleration``
+            (``[n, T', n_outputs]``, m/s^2: OpenSees' relative ``nodeAccel`` plus the
+            ground's share, NaN where the displacement is). A collapsed
             record (``collapsed``: its analysis stopped converging, or a story's drift
             ratio passed ``collapse_drift``) holds its history up to the collapse (the
             last converged step, or the first sample past the limit) and NaN after it; its
@@ -110,20 +125,28 @@ class OpenSeesStructure(Structure):
                 )
             motions = motions.resample(dt)
         moving = np.flatnonzero(np.any(motions.acceleration != 0.0, axis=1))
-        u = np.zeros((motions.n_records, motions.n_steps, self.n_outputs))
+        influence = self.ground_influence()
+        columns = self.n_outputs * (1 if influence is None else 2)
+        recorded = np.zeros((motions.n_records, motions.n_steps, columns))
         collapsed = np.zeros(motions.n_records, dtype=bool)
         runs = run_records(
             self.analysis(),
             motions.acceleration[moving],
             motions.dt,
-            self.n_outputs,
+            columns,
             workers=self.params.workers,
             records_per_worker=self.params.records_per_worker,
             description=f"{self.name} at dt = {motions.dt:g} s",
         )
-        u[moving], collapsed[moving] = runs.displacement, runs.collapsed
+        recorded[moving], collapsed[moving] = runs.displacement, runs.collapsed
+        u = recorded[:, :, : self.n_outputs]
         causes = {int(moving[i]): cause for i, cause in runs.collapse_causes.items()}
         causes.update(self._drift_collapses(u, collapsed, motions.dt))
+        extras = {}
+        if influence is not None:
+            relative = recorded[:, :, self.n_outputs :]
+            absolute = relative + motions.acceleration[:, :, None] * influence
+            extras[edp.ACCELERATION_EXTRA] = np.where(np.isnan(u), np.nan, absolute)
         for index, cause in sorted(causes.items()):
             described = _with_metadata(cause, motions.metadata, index)
             logger.info("%s: record %d collapsed the structure: %s", self.name, index, described)
@@ -132,7 +155,14 @@ class OpenSeesStructure(Structure):
             for i, cause in runs.failures.items()
         }
         messages = {int(moving[i]): text for i, text in runs.messages.items()}
-        return Responses(u, motions.dt, failures=failures, collapsed=collapsed, messages=messages)
+        return Responses(
+            np.ascontiguousarray(u),
+            motions.dt,
+            extras=extras,
+            failures=failures,
+            collapsed=collapsed,
+            messages=messages,
+        )
 
     def _drift_collapses(self, u: np.ndarray, collapsed: np.ndarray, dt: float) -> dict[int, str]:
         """Mark the records in which a story drifts past ``collapse_drift`` as collapsed

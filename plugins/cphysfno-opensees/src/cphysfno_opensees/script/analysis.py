@@ -36,8 +36,9 @@ def analyse(spec: ModelSpec, damping: Rayleigh, acceleration: np.ndarray, dt: fl
         dt: its time step, s.
 
     Returns:
-        ``[T, n_outputs]`` displacements relative to the ground from the gravity state: m
-        for translations, rad for rotations.
+        ``[T, 2 n_outputs]``: the displacements relative to the ground from the gravity
+        state (m for translations, rad for rotations), then the accelerations relative to
+        the ground (``nodeAccel``: m/s^2, rad/s^2).
 
     Raises:
         AnalysisFailed: a step that nothing could complete (a collapse), with the response
@@ -50,14 +51,19 @@ def analyse(spec: ModelSpec, damping: Rayleigh, acceleration: np.ndarray, dt: fl
     outputs = spec.outputs
     scale = np.where(built.translations, spec.metres_per_unit, 1.0)
 
+    origin = np.concatenate([built.at_rest, np.zeros(len(outputs))])
+    scale = np.tile(scale, 2)
+
     def read() -> list[float]:
-        return [ops.nodeDisp(node, dof) for node, dof in outputs]
+        return [ops.nodeDisp(node, dof) for node, dof in outputs] + [
+            ops.nodeAccel(node, dof) for node, dof in outputs
+        ]
 
     try:
-        u = integrate(ops, ground.size - 1, dt, read, algorithm=ALGORITHM)
+        recorded = integrate(ops, ground.size - 1, dt, read, algorithm=ALGORITHM)
     except AnalysisFailed as failure:
-        failure.history = (failure.history - built.at_rest) * scale
+        failure.history = (failure.history - origin) * scale
         raise
     finally:
         ops.wipe()
-    return (u - built.at_rest) * scale
+    return (recorded - origin) * scale

@@ -213,6 +213,11 @@ class OpenSeesModel(OpenSeesStructure):
         spec = self.spec.with_constraints(summary.constraints)
         return functools.partial(analyse, spec, summary.damping_factors)
 
+    def ground_influence(self) -> np.ndarray:
+        """``[n_outputs]``: 1 for an output along the excitation DOF (a translation, which
+        the ground's acceleration adds to), 0 for the others."""
+        return np.array([float(dof == self.params.excitation_dof) for _, dof in self.spec.outputs])
+
     def linear_system(self) -> LinearSystem:
         """The equations at the gravity state (:class:`OpenSeesModel`), in m and rad and the
         script's force unit (N, and so kg, for a script in SI units)."""
