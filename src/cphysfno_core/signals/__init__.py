@@ -45,6 +45,7 @@ from .pushover import (
     StoryPushover,
     cyclic_protocol,
     first_mode_pattern,
+    floor_masses,
     lateral_pattern,
     monotonic_protocol,
 )
@@ -80,6 +81,7 @@ __all__ = [
     "check_time_step",
     "cyclic_protocol",
     "first_mode_pattern",
+    "floor_masses",
     "oscillator_displacement",
     "lateral_pattern",
     "monotonic_protocol",

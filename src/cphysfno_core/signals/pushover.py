@@ -165,6 +165,25 @@ def first_mode_pattern(
     return np.clip(load, 0.0, None) / np.clip(load, 0.0, None).sum()
 
 
+def floor_masses(system: LinearSystem, floors: Sequence[int]) -> np.ndarray:
+    """``[d]`` floor masses, kg: the inertia of a uniform unit ground acceleration,
+    ``M r``, condensed statically onto the floors.
+
+    With ``u = T y`` the displacements of least elastic energy that give the floors
+    ``y = L_f u`` (``T = K^-1 L_f^T (L_f K^-1 L_f^T)^-1``, ``L_f`` the floors' rows of the
+    output map), the floor masses are ``T^T M r``: a floor's own mass, the masses tied to
+    it, and a share of the masses between floors. For a shear building they are its masses.
+
+    Args:
+        system: the structure's linear system.
+        floors: ``[d]`` the output of each floor, in the rows of ``system.output_map``.
+    """
+    rows = system.output_map[list(floors)]
+    flexibility = np.linalg.solve(system.stiffness, rows.T)
+    shapes = flexibility @ np.linalg.inv(rows @ flexibility)
+    return shapes.T @ system.mass @ system.influence
+
+
 def lateral_pattern(pattern: Sequence[float] | np.ndarray, n_floors: int) -> np.ndarray:
     """``[n_floors]`` a lateral load shape scaled to sum to 1.
 

@@ -79,6 +79,12 @@ class Stories:
         return len(self.upper)
 
     @property
+    def is_stacked(self) -> bool:
+        """Whether the stories stand one above the other: the first on the ground, each
+        next one on the top of the one below (as :meth:`stacked` makes them)."""
+        return self.lower == (None, *self.upper[:-1])
+
+    @property
     def floors(self) -> tuple[int, ...]:
         """The outputs that bound a story (its top or bottom), in increasing index: the
         "floors" whose accelerations are floor accelerations."""

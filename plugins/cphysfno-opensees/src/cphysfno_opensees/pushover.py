@@ -1,5 +1,8 @@
 """Static pushover of an OpenSees building model and the shear building it implies.
 
+:func:`push` pushes a model under any lateral pattern along any roof displacement
+protocol, monotonic or cyclic (the ``pushover`` capability of the OpenSees structures).
+
 The paper's equivalent linear system of a frame (§5.3) comes from a pushover with an
 inverted triangular load pattern: its initial slope gives the elastic story stiffnesses
 ``k_i = V_i / delta_i`` (story shear over interstory drift), which make a tridiagonal
@@ -24,8 +27,104 @@ ELASTIC_TOLERANCE = 1e-3
 displacement) is within this fraction of the initial slope."""
 
 
+PATTERN_TAG = 9101
+"""Tag of the lateral load's time series and pattern (kept clear of a script's)."""
+
+RETRY_SPLIT = 10
+"""Sub-steps a pushover step is cut into when it does not converge whole."""
+
+
 class PushoverError(CphysfnoError):
     """A pushover that did not run to its target or never left the elastic range."""
+
+
+@dataclass(frozen=True)
+class Pushed:
+    """What :func:`push` found, point 0 being the state it started from.
+
+    Attributes:
+        floor_displacement: ``[p, n]`` floor displacements from the start, model units.
+        load_factor: ``[p]`` factor on the lateral pattern (the base shear for a pattern
+            summing to 1), model force units.
+        stopped: why it ended before the last target, empty if it did not.
+    """
+
+    floor_displacement: np.ndarray
+    load_factor: np.ndarray
+    stopped: str
+
+
+def push(
+    ops: Any,
+    floors: list[int],
+    dof: int,
+    pattern: np.ndarray,
+    roof: np.ndarray,
+    strength_loss: float | None = None,
+) -> Pushed:
+    """Push a model already defined in OpenSees, its analysis already configured
+    (constraints, numberer, system, test, algorithm), with a lateral load of shape
+    ``pattern`` along ``dof`` on the floor nodes, the roof (the last floor) following
+    ``roof`` by displacement control, one step from each target to the next (cut into
+    :data:`RETRY_SPLIT` sub-steps where it does not converge whole).
+
+    Args:
+        ops: the ``openseespy.opensees`` module.
+        floors: node tags of the floors, bottom up.
+        dof: the DOF (from 1) along which the floors are pushed.
+        pattern: ``[n]`` load on each floor.
+        roof: ``[p]`` roof displacements from the start, model units (``roof[0]`` = 0).
+        strength_loss: stop after a point that moves the roof past every earlier point in
+            its direction with a load (in that direction) below ``1 - strength_loss`` of
+            the largest at such points so far; ``None``: never.
+
+    Returns:
+        The points reached; the analysis is wiped.
+    """
+    ops.timeSeries("Linear", PATTERN_TAG)
+    ops.pattern("Plain", PATTERN_TAG, PATTERN_TAG)
+    for node, share in zip(floors, pattern, strict=True):
+        load = [0.0] * int(ops.getNDF(node)[0])
+        load[dof - 1] = float(share)
+        ops.load(node, *load)
+    start = np.array([ops.nodeDisp(node, dof) for node in floors])
+    displacement, factor = [np.zeros(len(floors))], [0.0]
+    stopped, reach, strongest = "", np.zeros(2), np.zeros(2)
+    for step in range(1, len(roof)):
+        increment = float(roof[step] - roof[step - 1])
+        if not _advance(ops, floors[-1], dof, increment):
+            stopped = (
+                f"did not converge at step {step} of {len(roof) - 1} (roof displacement "
+                f"{roof[step]:.4g} in the model's length unit)"
+            )
+            break
+        displacement.append([ops.nodeDisp(node, dof) for node in floors] - start)
+        factor.append(ops.getLoadFactor(PATTERN_TAG))
+        side = int(roof[step] < 0.0)
+        if abs(roof[step]) >= reach[side]:
+            reach[side] = abs(roof[step])
+            resisting = factor[-1] * (-1.0 if side else 1.0)
+            strongest[side] = max(strongest[side], resisting)
+            if strength_loss is not None and resisting < (1.0 - strength_loss) * strongest[side]:
+                stopped = (
+                    f"lost {strength_loss:.0%} of its strength at step {step} of "
+                    f"{len(roof) - 1} (roof displacement {roof[step]:.4g} in the model's "
+                    "length unit)"
+                )
+                break
+    ops.wipeAnalysis()
+    return Pushed(np.asarray(displacement), np.asarray(factor), stopped)
+
+
+def _advance(ops: Any, roof_node: int, dof: int, increment: float) -> bool:
+    """Move the roof by ``increment`` in one displacement-controlled step, or in
+    :data:`RETRY_SPLIT` sub-steps; whether it converged."""
+    for parts in (1, RETRY_SPLIT):
+        ops.integrator("DisplacementControl", roof_node, dof, increment / parts)
+        ops.analysis("Static")
+        if all(ops.analyze(1) == 0 for _ in range(parts)):
+            return True
+    return False
 
 
 @dataclass(frozen=True)
@@ -169,11 +268,6 @@ def run_pushover(
             f"and {n_steps}"
         )
     pattern = triangular_pattern(heights)
-    series, load_pattern = 9101, 9101
-    ops.timeSeries("Linear", series)
-    ops.pattern("Plain", load_pattern, series)
-    for node, share in zip(floors, pattern, strict=True):
-        ops.load(node, float(share), 0.0, 0.0)
     if configure is None:
         ops.constraints("Transformation")
         ops.numberer("RCM")
@@ -182,22 +276,12 @@ def run_pushover(
         ops.algorithm("Newton")
     else:
         configure(ops)
-    increment = target_drift_ratio * heights[-1] / n_steps
-    ops.integrator("DisplacementControl", floors[-1], 1, increment)
-    ops.analysis("Static")
-    displacement = np.zeros((n_steps + 1, len(floors)))
-    shear = np.zeros(n_steps + 1)
-    for step in range(1, n_steps + 1):
-        if ops.analyze(1) != 0:
-            raise PushoverError(
-                f"the pushover did not converge at step {step} of {n_steps} (roof "
-                f"displacement {step * increment:.3f} m)"
-            )
-        displacement[step] = [ops.nodeDisp(node, 1) for node in floors]
-        shear[step] = ops.getLoadFactor(load_pattern)
-    ops.wipeAnalysis()
-    curve = PushoverCurve(heights, masses, pattern, displacement, shear)
-    if curve.elastic_points == len(shear):
+    roof = target_drift_ratio * heights[-1] * np.linspace(0.0, 1.0, n_steps + 1)
+    pushed = push(ops, floors, 1, pattern, roof)
+    if pushed.stopped:
+        raise PushoverError(f"the pushover {pushed.stopped}")
+    curve = PushoverCurve(heights, masses, pattern, pushed.floor_displacement, pushed.load_factor)
+    if curve.elastic_points == len(curve.base_shear):
         raise PushoverError(
             f"the pushover stayed elastic up to a roof drift ratio of {target_drift_ratio} "
             f"(secant stiffness within {ELASTIC_TOLERANCE:g} of the initial slope "

@@ -75,11 +75,11 @@ class Stick(PhysicsPreprocessor):
             description="lateral load on each floor, bottom up (None: the first mode times "
             "the floor masses)",
         )
-        period_tolerance: float = Field(
+        tolerance: float = Field(
             0.1,
             gt=0.0,
-            description="relative difference between a period of the stick and the "
-            "structure's beyond which fit warns",
+            description="relative difference between a period or a modal damping ratio of "
+            "the stick and the structure's beyond which fit warns",
         )
 
     def fit(self, structure: Structure) -> Stick:
@@ -99,7 +99,7 @@ class Stick(PhysicsPreprocessor):
         cyclic = structure.story_pushover(
             cyclic_protocol(p.cycle_amplitudes, p.points_per_cycle), backbone.pattern
         )
-        self.calibration_ = calibrate(structure, backbone, cyclic, p.laws, p.period_tolerance)
+        self.calibration_ = calibrate(structure, backbone, cyclic, p.laws, p.tolerance)
         self.stick_ = create("structure", "shear-building", **self.calibration_.shear_building())
         self.floors_ = floors
         return self
@@ -118,9 +118,8 @@ def _floors(stories: Stories, n_outputs: int, name: str) -> np.ndarray:
         ConfigError: the stories are not stacked (each from the top of the one below), or
             an output is no story's top.
     """
-    stacked = stories.lower == (None, *stories.upper[:-1])
     tops = {output: floor for floor, output in enumerate(stories.upper)}
-    if not stacked or set(tops) != set(range(n_outputs)):
+    if not stories.is_stacked or set(tops) != set(range(n_outputs)):
         raise ConfigError(
             f"stick: structure '{name}' needs stories one above the other whose tops are its "
             f"outputs (got bottoms {stories.lower}, tops {stories.upper} for {n_outputs} outputs)"

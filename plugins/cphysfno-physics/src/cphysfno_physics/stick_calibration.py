@@ -25,6 +25,7 @@ from cphysfno_core import (
     CphysfnoError,
     CphysfnoWarning,
     LinearSystem,
+    Rayleigh,
     StoryPushover,
     Structure,
     create,
@@ -335,26 +336,25 @@ def fit_laws(
     return chosen, fits
 
 
-def modal_damping(system: LinearSystem, n_modes: int) -> tuple[float, tuple[int, int] | None]:
-    """The damping of a stick that stands for ``system``: ``(ratio, rayleigh_modes)``.
-
-    The damping ratios of the system's first ``n_modes`` undamped modes are
-    ``phi_j^T C phi_j / (2 omega_j)`` (mass-normalised ``phi_j``). Where they are all the
-    first mode's (relative 1e-6) the stick is damped classically at that ratio
-    (``rayleigh_modes`` None); otherwise Rayleigh damping at the first mode and the mode
-    whose ratio is closest to the first's (the second mode a Rayleigh-damped structure is
-    matched at).
-    """
+def modal_damping(system: LinearSystem, n_modes: int) -> np.ndarray:
+    """``[min(n_modes, n_dof)]`` the damping ratios of the first undamped modes of
+    ``system``: ``phi_j^T C phi_j / (2 omega_j)`` with ``phi_j`` mass-normalised."""
     count = min(n_modes, system.n_dof)
     squares, vectors = scipy.linalg.eigh(
         system.stiffness, system.mass, subset_by_index=(0, count - 1)
     )
-    ratios = np.einsum("ij,ik,kj->j", vectors, system.damping, vectors) / (2.0 * np.sqrt(squares))
+    return np.einsum("ij,ik,kj->j", vectors, system.damping, vectors) / (2.0 * np.sqrt(squares))
+
+
+def stick_damping(ratios: np.ndarray) -> tuple[float, tuple[int, int] | None]:
+    """``(damping_ratio, rayleigh_modes)`` of a stick for a structure of modal damping
+    ``ratios``: classical at the first mode's ratio where all are the first's (relative
+    1e-6), else Rayleigh at that ratio in the first mode and the mode whose ratio is
+    closest to the first's (the second mode a Rayleigh-damped structure is matched at)."""
     first = float(ratios[0])
-    if count == 1 or np.allclose(ratios, first, rtol=1e-6, atol=1e-12):
+    if len(ratios) == 1 or np.allclose(ratios, first, rtol=1e-6, atol=1e-12):
         return first, None
-    other = 1 + int(np.argmin(np.abs(ratios[1:] - first)))
-    return first, (1, other + 1)
+    return first, (1, 2 + int(np.argmin(np.abs(ratios[1:] - first))))
 
 
 def calibrate(
@@ -362,7 +362,7 @@ def calibrate(
     backbone: StoryPushover,
     cyclic: StoryPushover,
     laws: Sequence[str],
-    period_tolerance: float,
+    tolerance: float,
 ) -> StickCalibration:
     """The stick of ``structure`` from its monotonic and cyclic pushovers.
 
@@ -370,8 +370,11 @@ def calibrate(
     - Initial story stiffnesses: the backbone's initial slopes, all scaled by one factor
       so that the stick's first period is the structure's (``structure.periods``) to
       round-off; a :class:`~cphysfno_core.CphysfnoWarning` names every further period of
-      the stick more than ``period_tolerance`` (relative) from the structure's.
-    - Damping: :func:`modal_damping` of the structure's equivalent linear system.
+      the stick more than ``tolerance`` (relative) from the structure's.
+    - Damping: :func:`stick_damping` of the modal damping ratios of the structure's
+      equivalent linear system; a warning names the modes whose ratio in the stick is more
+      than ``tolerance`` (relative) from the structure's (a damping that is neither
+      classical nor Rayleigh, such as mass-proportional damping alone).
     - Story law: :func:`fit_laws` on the cyclic curves, at those stiffnesses.
     """
     count = min(backbone.n_stories, len(structure.periods()))
@@ -385,17 +388,33 @@ def calibrate(
     scale = float((chain_periods(backbone.masses, initial)[0] / periods[0]) ** 2)
     stiffness = scale * initial
     stick_periods = chain_periods(backbone.masses, stiffness)[:count]
-    off = np.abs(stick_periods / periods - 1.0) > period_tolerance
-    if off.any():
-        warnings.warn(
-            f"stick of structure '{structure.name}': periods {stick_periods.tolist()} s against "
-            f"the structure's {periods.tolist()} s; modes {(np.flatnonzero(off) + 1).tolist()} "
-            f"differ by more than {period_tolerance:.0%}",
-            CphysfnoWarning,
-            stacklevel=2,
-        )
-    ratio, modes = modal_damping(structure.equivalent_linear_system(), backbone.n_stories)
+    _warn_where_off(structure, "periods", stick_periods, periods, tolerance)
+    ratios = modal_damping(structure.equivalent_linear_system(), count)
+    ratio, modes = stick_damping(ratios)
+    omega = 2.0 * np.pi / stick_periods
+    if modes is None:
+        stick_ratios = np.full(count, ratio)
+    else:
+        rayleigh = Rayleigh.matching(omega[modes[0] - 1], omega[modes[1] - 1], ratio)
+        stick_ratios = rayleigh.ratio(omega)
+    _warn_where_off(structure, "damping ratios", stick_ratios, ratios, tolerance)
     law, fits = fit_laws(backbone, cyclic, stiffness, laws)
     return StickCalibration(
         backbone, cyclic, stiffness, scale, periods, stick_periods, ratio, modes, law, fits
     )
+
+
+def _warn_where_off(
+    structure: Structure, what: str, stick: np.ndarray, own: np.ndarray, tolerance: float
+) -> None:
+    """Warn (:class:`~cphysfno_core.CphysfnoWarning`) naming the modes where ``stick``
+    differs from the structure's ``own`` by more than ``tolerance`` (relative)."""
+    off = np.abs(stick - own) > tolerance * np.abs(own)
+    if off.any():
+        warnings.warn(
+            f"stick of structure '{structure.name}': {what} {stick.tolist()} against the "
+            f"structure's {own.tolist()}; modes {(np.flatnonzero(off) + 1).tolist()} differ by "
+            f"more than {tolerance:.0%}",
+            CphysfnoWarning,
+            stacklevel=3,
+        )

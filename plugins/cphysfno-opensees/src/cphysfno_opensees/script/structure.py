@@ -13,13 +13,14 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
-from cphysfno_core import LinearSystem, Stories
+from cphysfno_core import LinearSystem, Stories, StoryPushover
 
 from ..runner import call_in_worker
 from ..structure import OpenSeesParams, OpenSeesStructure
 from .analysis import analyse
 from .model import LENGTH_UNITS, ModelSpec
 from .probe import Summary, probe
+from .pushover import story_pushover
 from .source import ScriptError, resolve
 
 logger = logging.getLogger(__name__)
@@ -143,7 +144,7 @@ class OpenSeesModel(OpenSeesStructure):
 
     name = "opensees-model"
     Params = OpenSeesModelParams
-    capabilities = frozenset({"linear_system", "coarse_simulation", "stories"})
+    capabilities = frozenset({"linear_system", "coarse_simulation", "stories", "pushover"})
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -318,6 +319,15 @@ class OpenSeesModel(OpenSeesStructure):
             upper.append(along[top])
             heights.append(height)
         return Stories(tuple(lower), tuple(upper), tuple(heights))
+
+    def story_pushover(
+        self, roof_drift_ratio: np.ndarray, pattern: np.ndarray | None = None
+    ) -> StoryPushover:
+        """The pushover of the model at its gravity state, in a worker process
+        (:func:`~.pushover.story_pushover`); story shears in the script's force unit."""
+        spec = self.spec.with_constraints(self.summary.constraints)
+        system = self.linear_system()
+        return story_pushover(spec, self.stories(), system, roof_drift_ratio, pattern)
 
     def write_artifacts(self, directory: Path) -> list[Path]:
         """``opensees-model.json``: the constraint handler chosen and why, the Rayleigh
