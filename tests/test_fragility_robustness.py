@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from cphysfno_core import ConfigError, CphysfnoError, GroundMotions, InputError
+from cphysfno_core.model.composite import Prediction
 from cphysfno_core.model.skipping import predict_skipping_failures
 from cphysfno_core.reporting.fragility import Fragility, fit_flags
 from cphysfno_core.reporting.intensity_measures import intensity_measure
@@ -12,30 +13,34 @@ from cphysfno_core.signals.intensity import average_spectral_acceleration, respo
 
 
 class _Doubling:
-    """Predicts twice the ground motion; raises for a batch holding a record that starts
-    at 99, and gives NaN for one that starts at -1."""
+    """Predicts twice the ground motion as displacement and three times it as acceleration;
+    raises for a batch holding a record that starts at 99, and gives NaN for one that
+    starts at -1."""
 
-    def predict(self, motions):
+    def predict_stages(self, motions):
         ag = motions.acceleration
         if np.any(ag[:, 0] == 99.0):
             raise InputError("z holds NaN or Inf (first in record 0)")
         mean = 2.0 * ag[:, :, None]
         mean[ag[:, 0] == -1.0] = np.nan
-        return mean, np.zeros_like(mean)
+        return Prediction(None, mean, mean, np.zeros_like(mean), 3.0 * ag[:, :, None])
 
 
 def test_prediction_goes_on_past_the_records_that_fail():
     ag = np.ones((4, 5))
     ag[1, 0], ag[3, 0] = 99.0, -1.0
-    mean, failures = predict_skipping_failures(_Doubling(), GroundMotions(ag, 0.01))
+    responses, failures = predict_skipping_failures(_Doubling(), GroundMotions(ag, 0.01))
+    mean = responses.displacement
     np.testing.assert_array_equal(mean[[0, 2], :, 0], 2.0 * ag[[0, 2]])
-    assert np.isnan(mean[[1, 3]]).all()
+    acceleration = responses.extras["absolute_acceleration"]
+    np.testing.assert_array_equal(acceleration[[0, 2], :, 0], 3.0 * ag[[0, 2]])
+    assert np.isnan(mean[[1, 3]]).all() and np.isnan(acceleration[[1, 3]]).all()
     assert failures == {
         1: "z holds NaN or Inf (first in record 0)",
         3: "the prediction is not finite",
     }
     clean, none = predict_skipping_failures(_Doubling(), GroundMotions(np.ones((2, 5)), 0.01))
-    assert none == {} and np.isfinite(clean).all()
+    assert none == {} and np.isfinite(clean.displacement).all()
     with pytest.raises(CphysfnoError, match="no record could be predicted"):
         predict_skipping_failures(_Doubling(), GroundMotions(np.full((2, 5), 99.0), 0.01))
 

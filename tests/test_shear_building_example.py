@@ -116,14 +116,14 @@ def test_fragility_goes_on_past_a_failed_record_and_an_unreached_limit_state(
 
     data = load_dataset(run / "dataset.h5")
     strongest = float(np.abs(data.motions("test").acceleration).max())
-    predict = CompositeModel.predict
+    predict = CompositeModel.predict_stages
 
     def failing(self, motions, *args, **kwargs):  # as physics that diverges on one record
         if np.isclose(np.abs(motions.acceleration).max(axis=1), strongest).any():
             raise InputError("z holds NaN or Inf (first in record 0)")
         return predict(self, motions, *args, **kwargs)
 
-    monkeypatch.setattr(CompositeModel, "predict", failing)
+    monkeypatch.setattr(CompositeModel, "predict_stages", failing)
     threshold = _median_peak_drift(run)
     arguments = ["fragility", str(run), "--records", "10", "--bootstrap", "5", "--im", "sa:0.4"]
     assert main([*arguments, "--limit-states", f"pid=5.0,{threshold:.6g}"]) == 0

@@ -3,7 +3,8 @@ pelicun 3 (FEMA P-58) reads.
 
 The records are the run's test records (collapsed ones flagged from the simulation, which
 pelicun drops) or motions from a file; the demands are the EDPs of the chosen model's
-predictions (:mod:`cphysfno_core.reporting.edp`), written by
+predictions (:mod:`cphysfno_core.reporting.edp`; PFA from the predicted accelerations of a
+model that learns them), written by
 :func:`cphysfno_core.reporting.demands.write_pelicun_demands`.
 """
 
@@ -16,6 +17,7 @@ import numpy as np
 from ..data.datasets import load_dataset
 from ..data.layout import DATASET
 from ..model.prediction_files import read_motions
+from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
 from ..reporting.demands import PelicunDemands, write_pelicun_demands
 from ..signals import GroundMotions
@@ -50,11 +52,22 @@ def write_demand_sample(
         everything = np.sort(np.concatenate([rows, flagged]))
         motions = GroundMotions(data.ag[everything], data.dt)
         collapsed = np.isin(everything, flagged)
-    mean = np.full((motions.n_records, motions.n_steps, structure.n_outputs), np.nan)
     standing = np.flatnonzero(~collapsed)
-    mean[standing], _ = model.predict(motions[standing])
-    demands = edp.compute(mean, structure, motions)
+    predicted = edp.compute(predict_skipping_failures(model, motions[standing])[0], structure,
+                            motions[standing])  # fmt: skip
+    demands = edp.EDPs(
+        *(_spread(values, standing, motions.n_records) for values in predicted.as_dict().values()),
+        predicted.stories,
+    )
+    demands.pfa[:, 0] = np.abs(motions.acceleration).max(axis=1)  # the ground's, every record
     path = out or run / "demands" / "demands.csv"
     path.parent.mkdir(parents=True, exist_ok=True)
     written = write_pelicun_demands(path, demands.pid, demands.rid, demands.pfa, collapsed)
     return written, trained.label
+
+
+def _spread(values: np.ndarray, rows: np.ndarray, n: int) -> np.ndarray:
+    """``[n, k]`` NaN but for ``values [len(rows), k]`` at ``rows``."""
+    found = np.full((n, values.shape[1]), np.nan)
+    found[rows] = values
+    return found

@@ -264,8 +264,8 @@ def run_fragility(
     im_test = im.of(motions)
     truth = edp.compute(data.u[rows], structure, motions)
     kept = motions[np.flatnonzero(standing)]
-    mean, test_failures = predict_skipping_failures(model, kept)
-    predicted = edp.compute(mean, structure, kept)
+    responses, test_failures = predict_skipping_failures(model, kept)
+    predicted = edp.compute(responses, structure, kept)
 
     started = time.perf_counter()
     large = _large_analysis(model, structure, config, records, motions_file, im, seed, progress)
@@ -470,9 +470,9 @@ def _large_analysis(
         extrapolated += int(outside_training(chunk, training_pga).sum())
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ExtrapolationWarning)
-            mean, failed = predict_skipping_failures(model, chunk)
+            responses, failed = predict_skipping_failures(model, chunk)
         failures.update({start + i: why for i, why in failed.items()})
-        parts.append(edp.compute(mean, structure, chunk))
+        parts.append(edp.compute(responses, structure, chunk))
         intensities.append(im.of(chunk))
         if progress:
             elapsed = time.perf_counter() - started

@@ -19,7 +19,7 @@ from ..config.experiment import ExperimentConfig
 from ..data.datasets import load_dataset
 from ..data.generation import generate_dataset
 from ..data.layout import DATASET, MODELS
-from ..model.composite import CompositeModel
+from ..model.composite import CompositeModel, Prediction
 from ..model.parts import model_label
 from ..model.training import resolve_device
 from ..reporting import against_physics, baselines, metrics
@@ -30,7 +30,9 @@ from ..reporting.evaluation import (
     interval_coverage_scores,
     metric_row,
 )
+from ..signals import Responses
 from ..signals.errors import ConfigError, DatasetError
+from ..signals.histories import ACCELERATION_EXTRA
 from ..signals.progress import show_progress
 
 
@@ -56,9 +58,11 @@ def _label(operator: Any, pp: Any, form: Any, refined: bool = False) -> str:
 
 def _variants(config: ExperimentConfig) -> list[tuple[Any, Any, Any]]:
     """``(operator, preprocessor, formulation)`` of every model trained (not refined) for
-    ``config`` in training order, the baseline with preprocessor and formulation None; only
+    ``config`` in training order, the baseline with preprocessor None and the response
+    kinds of the formulation alone; only
     those ``output.models`` names, where it names some."""
-    variants: list[Any] = [(None, None)] if config.output.baseline else []
+    baseline = config.formulation.physics_free()
+    variants: list[Any] = [(None, baseline)] if config.output.baseline else []
     variants += [(pp, form) for pp in config.preprocessor for form in config.formulation.forms()]
     every = {
         _label(operator, pp, form): (operator, pp, form)
@@ -112,6 +116,9 @@ def train(
     kept = slice(config.training.train_records)
     train_gm, val_gm = data.motions("train")[kept], data.motions("val")
     train_u, val_u = data.targets("train")[kept], data.targets("val")
+    train_a = val_a = None
+    if config.formulation.accelerations:
+        train_a, val_a = data.accelerations("train")[kept], data.accelerations("val")
     saved: dict[str, Path] = {}
     for operator, pp, form in _variants(config):
         model = CompositeModel(
@@ -144,6 +151,8 @@ def train(
                 validation=(val_gm, val_u),
                 z=z_train,
                 validation_z=z_val,
+                acceleration=train_a,
+                validation_acceleration=val_a,
                 checkpoint=checkpoint,
                 resume=resume,
             )
@@ -215,10 +224,19 @@ def evaluate(
         stages = model.predict_stages(test_gm, z=z)
         predictions[label] = stages
         z_val = None if model.preprocessor is None else data.physics(model.preprocessor.name, "val")
-        validation = model.predict_stages(val_gm, z=z_val).mean
+        validation = model.predict_stages(val_gm, z=z_val)
         results[label] = metric_row(stages.mean, test_u)
-        results[label]["validation_rel_l2"] = metrics.relative_l2(validation, val_u).tolist()
-        results[label].update(scorer.errors(label, stages.mean, validation))
+        results[label]["validation_rel_l2"] = metrics.relative_l2(validation.mean, val_u).tolist()
+        if stages.acceleration is not None:
+            results[label]["acceleration"] = {
+                **metric_row(stages.acceleration, data.accelerations("test")),
+                "validation_rel_l2": metrics.relative_l2(
+                    validation.acceleration, data.accelerations("val")
+                ).tolist(),
+            }
+        results[label].update(
+            scorer.errors(label, _predicted(stages, data.dt), _predicted(validation, data.dt))
+        )
         if model.preprocessor is not None:
             results[label]["physics_input"] = f"physics-{model.preprocessor.name}"
         if model.refiner is not None:
@@ -279,6 +297,13 @@ def evaluate(
         baseline_rows,
         beaten,
     )
+
+
+def _predicted(stages: Prediction, dt: float) -> Responses:
+    """A prediction's displacement with its predicted absolute accelerations, where the
+    model learns them, so that its floor accelerations come from those."""
+    extras = {} if stages.acceleration is None else {ACCELERATION_EXTRA: stages.acceleration}
+    return Responses(stages.mean, dt, extras=extras)
 
 
 def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Evaluation:

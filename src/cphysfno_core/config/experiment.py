@@ -139,7 +139,8 @@ class TrainingConfig(_Strict):
 
 class FormulationConfig(_Strict):
     """How a C-Phys model's operator works on the physics response z (the baseline, which
-    has no z, ignores it). The paper's formulation is the default: ``[z, t] -> u``."""
+    has no z, keeps only ``accelerations``), and which responses it learns. The paper's
+    formulation is the default: ``[z, t] -> u``."""
 
     residual: bool | Literal["choose"] = Field(
         False,
@@ -151,6 +152,18 @@ class FormulationConfig(_Strict):
     ground_motion_input: bool = Field(
         False, description="feed a_g as an input channel beside z and t"
     )
+    accelerations: bool = Field(
+        False,
+        description="the operator (of every model, the baseline's too) also learns the "
+        "absolute accelerations of the outputs (the structure's 'absolute_acceleration' "
+        "channel), normalised and weighted in the loss on their own; floor accelerations "
+        "(PFA) then come from the predicted accelerations, not from the displacements",
+    )
+
+    def physics_free(self) -> FormulationConfig:
+        """The part of this formulation a model without physics response keeps: the
+        response kinds it learns."""
+        return FormulationConfig(accelerations=self.accelerations)
 
     def forms(self) -> list[FormulationConfig]:
         """The concrete formulations this one trains: itself, or with ``residual =

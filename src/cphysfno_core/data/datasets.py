@@ -22,6 +22,7 @@ import numpy as np
 from ..config.experiment import ExperimentConfig
 from ..signals import GroundMotions
 from ..signals.errors import DatasetError
+from ..signals.histories import ACCELERATION_EXTRA
 
 SPLITS = ("train", "val", "test")
 
@@ -112,6 +113,21 @@ class Dataset:
     def targets(self, split: str) -> np.ndarray:
         return self.u[self.rows(split)]
 
+    def accelerations(self, split: str) -> np.ndarray:
+        """``[n, T, n_out]`` absolute accelerations (m/s^2) of the split's records, from
+        the structure's ``absolute_acceleration`` channel.
+
+        Raises:
+            DatasetError: the structure recorded no such channel.
+        """
+        if ACCELERATION_EXTRA not in self.extras:
+            raise DatasetError(
+                f"the dataset has no '{ACCELERATION_EXTRA}' channel (its structure records "
+                f"{', '.join(self.extras) or 'no extra channels'}): a model can learn "
+                "accelerations only from a structure that records them, e.g. opensees-model"
+            )
+        return np.asarray(self.extras[ACCELERATION_EXTRA][self.rows(split)], dtype=np.float64)
+
     def physics(self, preprocessor: str, split: str) -> np.ndarray:
         if preprocessor not in self.z:
             raise DatasetError(
@@ -155,7 +171,7 @@ def parts_folder(path: Path) -> Path:
     return path.with_name(path.name + ".parts")
 
 
-EXTRA_UNITS = {"story_drift": "m", "story_shear": "N", "absolute_acceleration": "m/s^2"}
+EXTRA_UNITS = {"story_drift": "m", "story_shear": "N", ACCELERATION_EXTRA: "m/s^2"}
 """Units of the extra channels the built-in structures simulate."""
 
 

@@ -55,13 +55,16 @@ def _rows_of(array: np.ndarray | None, rows: slice) -> np.ndarray | None:
 @dataclass
 class Prediction:
     """Every stage of a composite prediction, each ``[n, T, dof]`` in m (z None for a
-    baseline without physics); ``operator_output`` is the operator's prediction û, z
-    included for a residual formulation."""
+    baseline without physics); ``operator_output`` is the operator's prediction û of the
+    displacements, z included for a residual formulation. ``acceleration`` is the
+    operator's prediction of the outputs' absolute accelerations ``[n, T, dof]`` in m/s^2
+    for a model that learns them (``formulation.accelerations``), else None."""
 
     z: np.ndarray | None
     operator_output: np.ndarray
     mean: np.ndarray
     std: np.ndarray
+    acceleration: np.ndarray | None = None
 
 
 class CompositeModel:
@@ -91,7 +94,7 @@ class CompositeModel:
         self.refiner = refiner
         self.training = training or TrainingConfig()
         self.formulation = formulation or FormulationConfig()
-        if preprocessor is None and self.formulation != FormulationConfig():
+        if preprocessor is None and self.formulation != self.formulation.physics_free():
             raise ConfigError(
                 "residual and ground_motion_input work on a physics response: the baseline "
                 "operator has none (it always sees a_g)"
@@ -140,9 +143,54 @@ class CompositeModel:
         channels.append(np.broadcast_to(motions.time[None, :, None], ag.shape))
         return np.concatenate(channels, axis=2)
 
-    def _target(self, u: np.ndarray, z: np.ndarray | None) -> np.ndarray:
-        """What the operator learns: ``u``, or ``u - z`` with ``formulation.residual``."""
-        return u - z if self.formulation.residual else u
+    def _target(
+        self, u: np.ndarray, z: np.ndarray | None, acceleration: np.ndarray | None
+    ) -> np.ndarray:
+        """What the operator learns: ``u``, or ``u - z`` with ``formulation.residual``,
+        followed by the absolute accelerations with ``formulation.accelerations``."""
+        displacement = u - z if self.formulation.residual else u
+        if acceleration is None:
+            return displacement
+        return np.concatenate([displacement, acceleration], axis=2)
+
+    def _responses(
+        self,
+        motions: GroundMotions,
+        u: np.ndarray,
+        acceleration: np.ndarray | None,
+        what: str,
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """The checked displacement targets and, for a model that learns them, the
+        accelerations (refused when missing or given to a model that does not)."""
+        u = self._check_targets(motions, u, f"{what} u")
+        if not self.formulation.accelerations:
+            if acceleration is not None:
+                raise ConfigError(
+                    f"{what} accelerations given to a model that does not learn them: set "
+                    "formulation.accelerations = true"
+                )
+            return u, None
+        if acceleration is None:
+            raise ConfigError(
+                f"formulation.accelerations: give the {what} records' absolute accelerations "
+                "([n, T, dof] in m/s^2, the structure's 'absolute_acceleration' channel)"
+            )
+        acceleration = self._check_targets(motions, acceleration, f"{what} acceleration")
+        if acceleration.shape != u.shape:
+            raise InputError(
+                f"{what} acceleration {acceleration.shape} must have the shape of u {u.shape}"
+            )
+        return u, acceleration
+
+    def _groups(self, n_outputs: int) -> tuple[int, ...] | None:
+        """Channels of each response kind the operator outputs, for the loss."""
+        return (n_outputs, n_outputs) if self.formulation.accelerations else None
+
+    @property
+    def _displacements(self) -> int:
+        """How many of the operator's output channels are displacements (the first)."""
+        kinds = 2 if self.formulation.accelerations else 1
+        return self.operator_.out_channels // kinds
 
     def _build_operator(self, in_channels: int, out_channels: int) -> NeuralOperator:
         spec = self.operator_spec
@@ -164,6 +212,8 @@ class CompositeModel:
         epochs: int | None = None,
         z: np.ndarray | None = None,
         validation_z: np.ndarray | None = None,
+        acceleration: np.ndarray | None = None,
+        validation_acceleration: np.ndarray | None = None,
         progress: Callable[[EpochReport], None] | None = print_progress,
         checkpoint: str | Path | None = None,
         resume: bool = False,
@@ -179,13 +229,18 @@ class CompositeModel:
                 :class:`TrainingConfig` fields (``batch_size``, ``learning_rate``, ...).
             z: precomputed physics response of ``motions`` (skips the preprocessor).
             validation_z: precomputed physics response of the validation motions.
+            acceleration, validation_acceleration: the absolute accelerations ``[n, T,
+                dof]`` (m/s^2) of the training and validation records, for a model that
+                learns them (``formulation.accelerations``).
             progress: per-epoch callback (None for silence).
             checkpoint: file to write after every epoch (see :func:`train_operator`).
             resume: continue from ``checkpoint`` where an interrupted fit stopped.
         """
         val_motions, val_u = validation
-        u = self._check_targets(motions, u, "u")
-        val_u = self._check_targets(val_motions, val_u, "validation u")
+        u, acceleration = self._responses(motions, u, acceleration, "training")
+        val_u, validation_acceleration = self._responses(
+            val_motions, val_u, validation_acceleration, "validation"
+        )
         overrides = {**training, **({"epochs": epochs} if epochs is not None else {})}
         if overrides:
             self.training = self.training.model_copy(update=overrides)
@@ -196,7 +251,7 @@ class CompositeModel:
             validation_z = self.physics(val_motions) if validation_z is None else validation_z
         x_train = self._inputs(motions, z)
         x_val = self._inputs(val_motions, validation_z)
-        target = self._target(u, z)
+        target = self._target(u, z, acceleration)
         fit_normalizer = Normalizer.fit if self.training.normalize else Normalizer.identity
         self.input_normalizer_ = fit_normalizer(x_train)
         self.output_normalizer_ = fit_normalizer(target)
@@ -205,7 +260,7 @@ class CompositeModel:
         self.training_pga_ = (float(pga.min()), float(pga.max()))
         torch.manual_seed(self.training.seed)
         if self.operator_ is None:
-            self.operator_ = self._build_operator(x_train.shape[2], u.shape[2])
+            self.operator_ = self._build_operator(x_train.shape[2], target.shape[2])
             if self.formulation.residual:
                 self.operator_.zero_output_()
         self.history_: TrainingHistory = train_operator(
@@ -213,15 +268,21 @@ class CompositeModel:
             self.input_normalizer_.encode(x_train),
             target,
             self.input_normalizer_.encode(x_val),
-            self._target(val_u, validation_z),
+            self._target(val_u, validation_z, validation_acceleration),
             self.output_normalizer_,
             self.training,
             progress,
             checkpoint=checkpoint,
             resume=resume,
+            groups=self._groups(u.shape[2]),
         )
         val_hat = self._run_operator(x_val, validation_z)
-        self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_u) ** 2, axis=(0, 1)))
+        val_truth = (
+            val_u
+            if validation_acceleration is None
+            else np.concatenate([val_u, validation_acceleration], axis=2)
+        )
+        self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_truth) ** 2, axis=(0, 1)))
         if self.refiner is not None:
             calibration = (
                 (x_val, validation_z, val_u)
@@ -230,7 +291,8 @@ class CompositeModel:
             )
             x, z_fit, u_fit = calibration
             rng = np.random.default_rng(self.training.seed)
-            self.refiner.fit(z_fit, self._run_operator(x, z_fit), u_fit, rng)
+            u_hat = self._run_operator(x, z_fit)[:, :, : self._displacements]
+            self.refiner.fit(z_fit, u_hat, u_fit, rng)
         return self
 
     def refine(
@@ -251,7 +313,7 @@ class CompositeModel:
         refined = copy.copy(self)
         refined.refiner = resolve("refiner", refiner)
         z = self.physics(motions) if z is None else z
-        u_hat = self._run_operator(self._inputs(motions, z), z)
+        u_hat = self._run_operator(self._inputs(motions, z), z)[:, :, : self._displacements]
         rng = np.random.default_rng(self.training.seed if seed is None else seed)
         refined.refiner.fit(z, u_hat, self._check_targets(motions, u, "u"), rng)
         return refined
@@ -313,7 +375,8 @@ class CompositeModel:
             raise NotFittedError(f"model '{self.label}' is not trained: call fit() or load()")
 
     def _run_operator(self, inputs: np.ndarray, z: np.ndarray | None) -> np.ndarray:
-        """The operator's prediction ``û [n, T, dof]`` (float64, m) for un-normalised
+        """The operator's prediction ``û [n, T, channels]`` (float64, m; accelerations in
+        m/s^2 after the displacements for a model that learns them) for un-normalised
         ``inputs [n, T, in]`` and physics response ``z``, in chunks of
         :data:`PREDICT_CHUNK` records, in float32."""
         return self._operator_chunks(
@@ -348,7 +411,7 @@ class CompositeModel:
                 decoded = self.output_normalizer_.decode_torch(y)
                 out[rows] = decoded.cpu().numpy()
                 if self.formulation.residual:
-                    out[rows] += z[rows]
+                    out[rows, :, : z.shape[2]] += z[rows]
         return out
 
     def predict_stages(
@@ -383,19 +446,22 @@ class CompositeModel:
         shape = motions.acceleration.shape
         if z is not None and z.shape[:2] != shape:
             raise InputError(f"physics response {z.shape} does not match motions {shape}")
-        operator_output = self._operator_chunks(
+        output = self._operator_chunks(
             shape[0],
             shape[1],
             lambda rows: self._inputs(motions[rows], _rows_of(z, rows)),
             z,
             precision,
         )
+        n = self._displacements
+        operator_output = np.ascontiguousarray(output[:, :, :n])
+        acceleration = np.ascontiguousarray(output[:, :, n:]) if output.shape[2] > n else None
         if self.refiner is not None:
             mean, std = self.refiner.predict(z, operator_output)
         else:
             mean = operator_output
-            std = np.broadcast_to(self.validation_rmse_, mean.shape).copy()
-        return Prediction(z, operator_output, mean, std)
+            std = np.broadcast_to(self.validation_rmse_[:n], mean.shape).copy()
+        return Prediction(z, operator_output, mean, std, acceleration)
 
     def predict(
         self,

@@ -4,49 +4,66 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..signals import GroundMotions
+from ..signals import GroundMotions, Responses
 from ..signals.errors import CphysfnoError
+from ..signals.histories import ACCELERATION_EXTRA
 from .composite import CompositeModel
 
 
 def predict_skipping_failures(
     model: CompositeModel, motions: GroundMotions
-) -> tuple[np.ndarray, dict[int, str]]:
-    """The predicted mean ``[n, T, n_outputs]`` (m) of every record, and the records it
-    could not predict.
+) -> tuple[Responses, dict[int, str]]:
+    """The predicted mean displacement ``[n, T, n_outputs]`` (m) of every record, with the
+    predicted absolute accelerations (extra ``absolute_acceleration``, m/s^2) of a model
+    that learns them, and the records it could not predict.
 
     The records are predicted together; if that fails (the physics input of one record
     holds NaN, say), one by one. A record whose prediction raises a package error or is
     not finite gets NaN and is listed with its cause.
 
     Returns:
-        ``(mean, failures)``: ``failures`` maps the index of each failed record in
+        ``(responses, failures)``: ``failures`` maps the index of each failed record in
         ``motions`` to the reason.
     """
     try:
-        mean = np.asarray(model.predict(motions)[0], dtype=np.float64)
+        channels = _channels(model, motions)
         failures: dict[int, str] = {}
     except CphysfnoError:
-        mean, failures = _one_by_one(model, motions)
-    for i in np.flatnonzero(~np.isfinite(mean).all(axis=(1, 2))):
-        failures.setdefault(int(i), "the prediction is not finite")
-        mean[i] = np.nan
-    return mean, failures
+        channels, failures = _one_by_one(model, motions)
+    for values in channels.values():
+        for i in np.flatnonzero(~np.isfinite(values).all(axis=(1, 2))):
+            failures.setdefault(int(i), "the prediction is not finite")
+    for values in channels.values():
+        values[list(failures)] = np.nan
+    mean = channels.pop("displacement")
+    return Responses(mean, motions.dt, extras=channels), dict(sorted(failures.items()))
 
 
-def _one_by_one(model: CompositeModel, motions: GroundMotions) -> tuple[np.ndarray, dict[int, str]]:
-    parts, failures = [], {}
-    shape = None
+def _channels(model: CompositeModel, motions: GroundMotions) -> dict[str, np.ndarray]:
+    stages = model.predict_stages(motions)
+    found = {"displacement": np.array(stages.mean, dtype=np.float64)}
+    if stages.acceleration is not None:
+        found[ACCELERATION_EXTRA] = np.array(stages.acceleration, dtype=np.float64)
+    return found
+
+
+def _one_by_one(
+    model: CompositeModel, motions: GroundMotions
+) -> tuple[dict[str, np.ndarray], dict[int, str]]:
+    parts: list[dict[str, np.ndarray] | None] = []
+    failures = {}
     for i in range(motions.n_records):
         try:
-            part = np.asarray(model.predict(motions[i])[0], dtype=np.float64)
-            shape = part.shape[1:]
+            parts.append(_channels(model, motions[i]))
         except CphysfnoError as error:
-            part = None
+            parts.append(None)
             failures[i] = str(error)
-        parts.append(part)
-    if shape is None:
-        first = next(iter(failures.values()))
-        raise CphysfnoError(f"no record could be predicted (record 0: {first})")
-    mean = np.stack([np.full(shape, np.nan) if p is None else p[0] for p in parts])
-    return mean, failures
+    template = next((part for part in parts if part is not None), None)
+    if template is None:
+        raise CphysfnoError(f"no record could be predicted (record 0: {failures[0]})")
+    return {
+        name: np.stack(
+            [np.full(values.shape[1:], np.nan) if p is None else p[name][0] for p in parts]
+        )
+        for name, values in template.items()
+    }, failures

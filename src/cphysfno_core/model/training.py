@@ -101,19 +101,30 @@ def describe_device(device: torch.device) -> str:
     return device.type
 
 
-def relative_l2_loss(prediction: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+def relative_l2_loss(
+    prediction: torch.Tensor, target: torch.Tensor, groups: tuple[int, ...] | None = None
+) -> torch.Tensor:
     """Paper Eq. (Loss): sum over records and DOFs of ||pred - u||_2 over sum of ||u||_2.
 
-    Both tensors are ``[batch, T, dof]``; the norms run over time.
+    Both tensors are ``[batch, T, dof]``; the norms run over time. With ``groups`` (the
+    number of channels of each response kind, in order, e.g. ``(5, 5)`` for displacements
+    then accelerations), the sum over the kinds of each kind's own relative L2, so that no
+    kind weighs more for its unit.
     """
-    error, norm = _error_and_norm(prediction, target)
-    return error / norm.clamp_min(1e-30)
+    error, norm = _error_and_norm(prediction, target, groups)
+    return (error / norm.clamp_min(1e-30)).sum()
 
 
-def _error_and_norm(prediction: torch.Tensor, target: torch.Tensor) -> tuple[torch.Tensor, ...]:
-    """Numerator and denominator of :func:`relative_l2_loss`."""
-    error = torch.linalg.vector_norm(prediction - target, dim=1).sum()
-    return error, torch.linalg.vector_norm(target, dim=1).sum()
+def _error_and_norm(
+    prediction: torch.Tensor, target: torch.Tensor, groups: tuple[int, ...] | None = None
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """Numerators and denominators ``[n_groups]`` of :func:`relative_l2_loss`."""
+    errors = torch.linalg.vector_norm(prediction - target, dim=1).sum(dim=0)
+    norms = torch.linalg.vector_norm(target, dim=1).sum(dim=0)
+    sizes = list(groups) if groups else [errors.shape[0]]
+    error = torch.stack([part.sum() for part in torch.split(errors, sizes)])
+    norm = torch.stack([part.sum() for part in torch.split(norms, sizes)])
+    return error, norm
 
 
 @dataclass
@@ -195,17 +206,19 @@ def _evaluate(
     y: torch.Tensor,
     decode,
     batch_size: int,
+    groups: tuple[int, ...] | None = None,
 ) -> float:
-    """Relative L2 over a whole split (the ratio of sums, not a mean of batch ratios)."""
-    error = 0.0
-    norm = 0.0
+    """Relative L2 over a whole split (the ratio of sums, not a mean of batch ratios),
+    summed over the ``groups`` as in :func:`relative_l2_loss`."""
+    error = norm = 0.0
     with torch.no_grad():
         for start in range(0, x.shape[0], batch_size):
             prediction = decode(forward(x[start : start + batch_size]))
-            target = y[start : start + batch_size]
-            error += torch.linalg.vector_norm(prediction - target, dim=1).sum().item()
-            norm += torch.linalg.vector_norm(target, dim=1).sum().item()
-    return error / max(norm, 1e-30)
+            part_error, part_norm = _error_and_norm(
+                prediction, y[start : start + batch_size], groups
+            )
+            error, norm = error + part_error, norm + part_norm
+    return float((error / norm.clamp_min(1e-30)).sum())
 
 
 def train_operator(
@@ -219,6 +232,7 @@ def train_operator(
     progress: Callable[[EpochReport], None] | None = print_progress,
     checkpoint: str | Path | None = None,
     resume: bool = False,
+    groups: tuple[int, ...] | None = None,
 ) -> TrainingHistory:
     """Train ``operator`` in place and keep the weights of the best validation epoch.
 
@@ -237,6 +251,8 @@ def train_operator(
             to continue: weights, optimiser, schedule, random states, best epoch so far.
         resume: continue from ``checkpoint`` if it exists; on CPU the result equals that
             of an uninterrupted run with the same seed.
+        groups: channels of each response kind the outputs hold, in order (None: one
+            kind); the loss is the sum of the kinds' relative L2 (:func:`relative_l2_loss`).
     """
     if x_train.shape[0] != y_train.shape[0] or x_val.shape[0] != y_val.shape[0]:
         raise InputError("inputs and targets must hold the same number of records")
@@ -285,22 +301,20 @@ def train_operator(
         tic = time.perf_counter()
         operator.train()
         order = torch.randperm(xt.shape[0], generator=generator)
-        error_sum = 0.0
-        norm_sum = 0.0
+        error_sum = norm_sum = 0.0
         for start in range(0, xt.shape[0], settings.batch_size):
             rows = order[start : start + settings.batch_size].to(device)
-            error, norm = _error_and_norm(decode(forward(xt[rows])), yt[rows])
-            loss = error / norm.clamp_min(1e-30)
+            error, norm = _error_and_norm(decode(forward(xt[rows])), yt[rows], groups)
+            loss = (error / norm.clamp_min(1e-30)).sum()
             optimiser.zero_grad(set_to_none=True)
             loss.backward()
             optimiser.step()
-            error_sum += error.item()
-            norm_sum += norm.item()
+            error_sum, norm_sum = error_sum + error.detach(), norm_sum + norm.detach()
         learning_rate = optimiser.param_groups[0]["lr"]
         schedule.step()
         operator.eval()
-        val_loss = _evaluate(forward, xv, yv, decode, settings.batch_size)
-        train_loss = error_sum / max(norm_sum, 1e-30)
+        val_loss = _evaluate(forward, xv, yv, decode, settings.batch_size, groups)
+        train_loss = float((error_sum / norm_sum.clamp_min(1e-30)).sum())
         history.train_loss.append(train_loss)
         history.val_loss.append(val_loss)
         improved = val_loss < best_val

@@ -19,11 +19,7 @@ import numpy as np
 from ..api.interfaces import Structure
 from ..signals import GroundMotions, Responses, Stories
 from ..signals.errors import InputError
-
-ACCELERATION_EXTRA = "absolute_acceleration"
-"""Name of the extra response channel (``Responses.extras``) a structure may return with
-the absolute (total) acceleration of each output, ``[n, T, n_outputs]`` in m/s^2; where it
-is there, :func:`compute` reads peak floor accelerations from it."""
+from ..signals.histories import ACCELERATION_EXTRA
 
 
 @dataclass(frozen=True, eq=False)

@@ -136,13 +136,22 @@ class EDPScorer:
     def errors(
         self, label: str, displacement: Any, validation: Any | None = None
     ) -> dict[str, Any]:
-        """``{"edp": test log errors, "validation_edp": validation log errors}`` of
-        ``[n, T, n_outputs]`` predictions of the test (and validation) records, or ``{}``."""
+        """``{"edp": test log errors, "validation_edp": validation log errors,
+        "pfa_from": ...}`` of predictions of the test (and validation) records, or ``{}``:
+        ``[n, T, n_outputs]`` displacements, or :class:`Responses` that may carry predicted
+        absolute accelerations (``pfa_from`` then says ``"predicted acceleration"``, else
+        ``"displacement"``)."""
         if self.truth is None:
             return {}
         predicted = edp.compute(displacement, self.stories, self.motions["test"])
         self.predicted[label] = predicted
-        found = {"edp": edp.log_errors(predicted, self.truth)}
+        learned = isinstance(displacement, Responses) and edp.ACCELERATION_EXTRA in (
+            displacement.extras
+        )
+        found = {
+            "edp": edp.log_errors(predicted, self.truth),
+            "pfa_from": "predicted acceleration" if learned else "displacement",
+        }
         if validation is not None:
             on_validation = edp.compute(validation, self.stories, self.motions["val"])
             found["validation_edp"] = edp.log_errors(on_validation, self.validation_truth)

@@ -154,6 +154,11 @@ class GroundMotions:
         return GroundMotions(ag, dt, self.metadata)
 
 
+ACCELERATION_EXTRA = "absolute_acceleration"
+"""Name of the extra response channel (``Responses.extras``) a structure may return with
+the absolute (total) acceleration of each output, ``[n, T, n_outputs]`` in m/s^2."""
+
+
 @dataclass(frozen=True)
 class Responses:
     """Structural response histories on one uniform time grid.
