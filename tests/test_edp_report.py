@@ -112,6 +112,12 @@ def test_a_run_reports_each_models_edp_errors_and_the_drift_scatter(toy_registry
     assert isinstance(document["baseline_beats_surrogates"], list)
 
     report = (out / "report.md").read_text()
+    assert (
+        "## Physics inputs\n\n### `toy-linear`\n\nToy linear oscillators at (1.0, 3.0) Hz."
+        in report
+    )
+    saved = out / "models" / "c-phystoy-operator-toy-linear" / "preprocessor" / "summary.md"
+    assert saved.read_text() == "Toy linear oscillators at (1.0, 3.0) Hz.\n"
     assert "| baseline-gp |" in report and "Gaussian process on ln PGA" in report
     assert "## Engineering demand parameters (test split)" in report
     assert "| model | story-1 | story-2 |" in report

@@ -70,6 +70,21 @@ class StoriedToyStructure(ToyStructure):
         return cp.Stories.stacked(self.params.heights_m)
 
 
+class AcceleratingToyStructure(StoriedToyStructure):
+    """The storied toy structure that also returns the absolute acceleration of each output
+    (the extra ``absolute_acceleration``, m/s^2): by its equations, minus the damping and
+    spring forces per unit mass (velocities by central differences)."""
+
+    name = "toy-accelerating"
+
+    def simulate(self, motions, *, dt=None):
+        u = super().simulate(motions, dt=dt).displacement
+        v = np.gradient(u, motions.dt, axis=1)
+        w = 2 * np.pi * np.asarray(self.params.frequencies_hz)
+        absolute = -2 * 0.05 * w * v - w**2 * (u + self.params.cubic * u**3)
+        return cp.Responses(u, motions.dt, extras={"absolute_acceleration": absolute})
+
+
 class FragileStructure(ToyStructure):
     """The toy structure, failing on records whose peak |a_g| exceeds ``limit``: with NaN
     output (``mode = "nan"``), an exception (``mode = "raise"``) or NaN rows named in
@@ -177,6 +192,13 @@ class ToyPreprocessor(cp.PhysicsPreprocessor):
             raise cp.NotFittedError("fit first")
         return self.structure_.simulate(motions).displacement
 
+    def write_artifacts(self, directory):
+        directory.mkdir(parents=True, exist_ok=True)
+        summary = directory / "summary.md"
+        frequencies = self.structure_.params.frequencies_hz
+        summary.write_text(f"Toy linear oscillators at {frequencies} Hz.\n")
+        return [summary]
+
 
 class FragilePreprocessor(ToyPreprocessor):
     """The toy linear part, NaN for the records whose peak ground acceleration exceeds
@@ -275,6 +297,7 @@ def cphysfno_structures():
     return [
         ToyStructure,
         StoriedToyStructure,
+        AcceleratingToyStructure,
         DyingOnceStructure,
         FragileStructure,
         WrongShapeStructure,

@@ -159,3 +159,24 @@ def test_a_structure_without_a_pushover_is_refused(toy):
 def test_unknown_laws_are_refused(bilinear_building):
     with pytest.raises(ConfigError, match="stick.laws"):
         Stick(**FAST, laws=("linear",)).fit(bilinear_building)
+
+
+def test_the_calibration_is_written_with_its_summary_and_figure(bilinear_stick, tmp_path):
+    files = bilinear_stick.write_artifacts(tmp_path)
+    assert sorted(p.name for p in files) == ["stick.json", "stick.png", "summary.md"]
+    written = json.loads((tmp_path / "stick.json").read_text())
+    assert written == json.loads(json.dumps(bilinear_stick.calibration_.to_dict()))
+    summary = (tmp_path / "summary.md").read_text()
+    assert "story law `bilinear`" in summary and "does not follow" not in summary
+    assert (tmp_path / "stick.png").stat().st_size > 10_000
+
+
+def test_a_stick_that_cannot_follow_the_structure_says_so(bilinear_building, tmp_path):
+    # a peak-oriented law (reloading towards the largest drift) cannot follow kinematic
+    # hardening's loops
+    stick = Stick(**FAST, laws=("peak-oriented",)).fit(bilinear_building)
+    worst = stick.calibration_.fits["peak-oriented"].worst
+    stick.write_artifacts(tmp_path)
+    summary = (tmp_path / "summary.md").read_text()
+    assert worst > 0.10, worst
+    assert f"misses the cyclic story shear by {worst:.0%}" in summary

@@ -307,6 +307,13 @@ class PhysicsPreprocessor(Component, ABC):
     def transform(self, motions: GroundMotions) -> np.ndarray:
         """``[n, T, n_outputs]`` intermediate displacements z in m on the motion's grid."""
 
+    def write_artifacts(self, directory: Path) -> list[Path]:
+        """Write what a reader of a saved model or a report should see of the fitted
+        simplified model (e.g. a calibration as JSON and a figure) into ``directory``;
+        return the files. A ``summary.md`` among them is a Markdown fragment the report
+        shows as it is. The default writes nothing."""
+        return []
+
 
 class NeuralOperator(torch.nn.Module):
     """A learned operator mapping ``[batch, T, in_channels]`` to ``[batch, T, out_channels]``.

@@ -97,7 +97,9 @@ def save_model(model: Any, directory: str | Path) -> Path:
     """Write ``model.json`` (parts by name and parameters), ``operator.pt`` (tensors
     only) and ``arrays.npz`` (normalisers, refiner state) into ``directory``; for a
     C-Phys model also what the structure shows of itself (e.g. the pushover behind its
-    equivalent linear system) into ``directory/structure``, for the reader only."""
+    equivalent linear system) into ``directory/structure`` and what its fitted
+    preprocessor shows (e.g. a stick's calibration) into ``directory/preprocessor``, for
+    the reader only."""
     model._check_fitted()
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -134,6 +136,7 @@ def save_model(model: Any, directory: str | Path) -> Path:
     (directory / "model.json").write_text(json.dumps(description, indent=2))
     if model.preprocessor is not None:
         model.structure.write_artifacts(directory / "structure")
+        model.preprocessor.write_artifacts(directory / "preprocessor")
     return directory
 
 

@@ -51,6 +51,34 @@ def _markdown_table(
     return lines
 
 
+def _physics_section(out: Path) -> list[str]:
+    """What each fitted preprocessor shows of itself (its ``summary.md`` and figures,
+    written with the first saved model that uses it), if any does."""
+    shown: dict[str, Path] = {}
+    for folder in sorted((out / MODELS).glob("*/preprocessor")):
+        name = json.loads((folder.parent / "model.json").read_text())["preprocessor"]["name"]
+        shown.setdefault(name, folder)
+    lines = []
+    for name, folder in shown.items():
+        summary = folder / "summary.md"
+        figures_of = sorted(folder.glob("*.png"))
+        if not summary.exists() and not figures_of:
+            continue
+        lines += ["", f"### `{name}`", ""]
+        if summary.exists():
+            lines += summary.read_text().strip().splitlines()
+        lines += [f"![{name}]({p.relative_to(out).as_posix()})" for p in figures_of]
+    return ["", "## Physics inputs", *lines] if lines else []
+
+
+def _acceleration_table(rows: dict[str, dict], names: list[str]) -> list[str]:
+    lines = ["| model | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
+    for label, row in rows.items():
+        cells = [f"{e:.4f} ({r:.3g})" for e, r in zip(row["rel_l2"], row["rmse"], strict=True)]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def write_figures(
     evaluation: Evaluation, out: Path, *, target: SpectrumBand | None = None
 ) -> list[Path]:
@@ -204,6 +232,18 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
     lines += _markdown_table(models, names, "rel_l2", 4, paper)
     lines += ["", "## RMSE (m, test split)", ""]
     lines += _markdown_table(models, names, "rmse", 4, paper)
+    accelerating = {k: v["acceleration"] for k, v in models.items() if "acceleration" in v}
+    if accelerating:
+        lines += [
+            "",
+            "## Absolute acceleration (test split)",
+            "",
+            "The models that learn the outputs' absolute accelerations beside their "
+            "displacements (`formulation.accelerations`): relative L2 and, in parentheses, "
+            "RMSE in m/s².",
+            "",
+        ]
+        lines += _acceleration_table(accelerating, names)
     lines += [
         "",
         "## Peak response and intervals",
@@ -219,6 +259,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
         ]
         lines.append(f"| {label} | {row['peak_r2']:.3f} | {' | '.join(cells)} |")
     lines += _coverage_error_note(models)
+    lines += _physics_section(out)
     lines += _edp_section(evaluation, config.structure.name)
     lines += _against_physics_section(evaluation)
     if written:
@@ -284,10 +325,16 @@ def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
     stories = list(truth.stories.names)
     floors = truth.floor_names(list(evaluation.data.output_names))[1:]
     source = (
-        "Simulated PFA is read from the structure's absolute acceleration channel, predicted PFA"
+        "Simulated PFA is read from the structure's absolute acceleration channel; predicted PFA"
         if evaluation.data.extras.get(ACCELERATION_EXTRA) is not None
         else "PFA, simulated and predicted, is"
     )
+    learned = [k for k, v in models.items() if v.get("pfa_from") == "predicted acceleration"]
+    if learned:
+        source += (
+            " of " + ", ".join(f"`{k}`" for k in learned) + " comes from the accelerations "
+            "they predict; that of the other rows is"
+        )
     median_pid = ", ".join(f"{100 * v:.3g}" for v in np.nanmedian(truth.pid, axis=0))
     median_pfa = ", ".join(f"{v:.3g}" for v in np.nanmedian(truth.pfa[:, 1:], axis=0))
     lines += [

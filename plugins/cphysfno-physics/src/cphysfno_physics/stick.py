@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -20,6 +21,7 @@ from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 
 from .fitted import check_fitted
 from .stick_calibration import LAW_SPACES, calibrate
+from .stick_figures import write_stick_artifacts
 
 DriftRatio = Annotated[float, Field(gt=0.0, le=0.2)]
 
@@ -109,6 +111,14 @@ class Stick(PhysicsPreprocessor):
         motion's grid."""
         check_fitted(self, "stick_")
         return self.stick_.simulate(motions).displacement[:, :, self.floors_]
+
+
+    def write_artifacts(self, directory: Path) -> list[Path]:
+        """The calibration (``stick.json``), its summary (``summary.md``, with a warning
+        where the stick does not follow the structure) and ``stick.png`` (each story's
+        curves, structure against stick): :func:`~.stick_figures.write_stick_artifacts`."""
+        check_fitted(self, "calibration_")
+        return write_stick_artifacts(self.calibration_, Path(directory))
 
 
 def _floors(stories: Stories, n_outputs: int, name: str) -> np.ndarray:

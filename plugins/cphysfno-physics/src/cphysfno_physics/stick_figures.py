@@ -1,0 +1,88 @@
+"""What a fitted stick shows of itself: its calibration as JSON, a Markdown summary and the
+figure of the structure's story curves against the stick's."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .stick_calibration import StickCalibration, replay
+
+FIT_WARNING = 0.10
+"""Worst-story fit error (RMS shear error over peak shear on the cyclic pushover) above
+which the summary says that the stick does not follow the structure."""
+
+
+def write_stick_artifacts(calibration: StickCalibration, directory: Path) -> list[Path]:
+    """``stick.json`` (the calibration, SI units), ``summary.md`` and ``stick.png`` (each
+    story's monotonic and cyclic shear-drift curves, structure against stick) in
+    ``directory``; the files written."""
+    directory.mkdir(parents=True, exist_ok=True)
+    document = directory / "stick.json"
+    document.write_text(json.dumps(calibration.to_dict(), indent=2) + "\n")
+    summary = directory / "summary.md"
+    summary.write_text("\n".join(summary_lines(calibration)) + "\n")
+    return [document, summary, plot_calibration(calibration, directory / "stick.png")]
+
+
+def summary_lines(calibration: StickCalibration) -> list[str]:
+    """The calibration in a few Markdown lines, with a warning where the chosen law does
+    not follow the structure's cyclic curves (worst story beyond :data:`FIT_WARNING`)."""
+    chosen = calibration.fits[calibration.law]
+    others = ", ".join(
+        f"{name} {fit.worst:.3f}"
+        for name, fit in calibration.fits.items()
+        if name != calibration.law
+    )
+    periods = ", ".join(f"{p:.3f}" for p in calibration.periods)
+    stick = ", ".join(f"{p:.3f}" for p in calibration.stick_periods)
+    lines = [
+        f"Stick: story law `{calibration.law}`, worst-story fit error {chosen.worst:.3f} (RMS "
+        "shear error over the peak shear on the cyclic pushover"
+        + (f"; the other laws: {others}" if others else "")
+        + f"). Periods, structure: {periods} s; stick: {stick} s (stiffness scale "
+        f"{calibration.stiffness_scale:.3f}). Damping ratio {calibration.damping_ratio:.3f}"
+        + (
+            "."
+            if calibration.rayleigh_modes is None
+            else f", Rayleigh in modes {calibration.rayleigh_modes[0]} and "
+            f"{calibration.rayleigh_modes[1]}."
+        ),
+    ]
+    if chosen.worst > FIT_WARNING:
+        lines += [
+            "",
+            f"**The stick does not follow this structure closely**: its best law misses the "
+            f"cyclic story shear by {chosen.worst:.0%} of the peak in the worst story "
+            f"(over {FIT_WARNING:.0%}); its z is a weak physics input here.",
+        ]
+    return lines
+
+
+def plot_calibration(calibration: StickCalibration, path: Path) -> Path:
+    """One column a story: the monotonic pushover (top) and the cyclic one (bottom), story
+    shear against drift, the structure's curve and the stick's along the same drifts."""
+    law = calibration.story_law()
+    curves = [
+        (calibration.backbone, replay(law, calibration.backbone, calibration.stiffness)),
+        (calibration.cyclic, replay(law, calibration.cyclic, calibration.stiffness)),
+    ]
+    stories = calibration.backbone.n_stories
+    figure = Figure(figsize=(3.0 * stories, 5.6), layout="constrained")
+    axes = np.atleast_2d(figure.subplots(2, stories, squeeze=False))
+    for row, (curve, stick) in enumerate(curves):
+        for story in range(stories):
+            ax = axes[row, story]
+            drift = 100 * curve.story_drift[:, story] / curve.heights[story]
+            ax.plot(drift, curve.story_shear[:, story], color="k", lw=1.2, label="structure")
+            ax.plot(drift, stick[:, story], color="C1", lw=1.0, ls="--", label="stick")
+            ax.set_title(f"story {story + 1}, {'monotonic' if row == 0 else 'cyclic'}", fontsize=9)
+            ax.set_xlabel("drift ratio (%)")
+            if story == 0:
+                ax.set_ylabel("story shear (N, or the model's force unit)")
+    axes[0, 0].legend(fontsize=7)
+    figure.savefig(path, dpi=120)
+    return path
