@@ -56,3 +56,66 @@ def test_els_error_on_paper_white_noise(building, paper_motions, paper_truth, re
     error = relative_l2(z, paper_truth)
     print(f"ELS relative L2 to truth per story: {np.round(error, 3)}")
     assert np.all((error > 0.35) & (error < 0.6))
+
+
+def _isolator(alpha: float = 0.1):
+    """One story on a bilinear spring (an isolator's law): 2e5 kg, 4e6 N/m, yield at 2 cm."""
+    return create(
+        "structure",
+        "shear-building",
+        masses=(2.0e5,),
+        stiffnesses=(4.0e6,),
+        story_heights=(1.0,),
+        story_law={"name": "bilinear", "alpha": alpha, "yield_displacement": 0.02},
+    )
+
+
+def _records(peak: float, n: int = 4) -> GroundMotions:
+    rng = np.random.default_rng(3)
+    ag = rng.standard_normal((n, 1501))
+    return GroundMotions(peak * ag / np.abs(ag).max(axis=1, keepdims=True), 0.01)
+
+
+def test_secant_els_solves_each_record_at_the_secant_of_its_own_peak():
+    structure = _isolator()
+    els = create(
+        "preprocessor", "els", stiffness="secant", target_drift_ratio=0.1, hysteretic_damping=False
+    ).fit(structure)
+    motions = _records(3.0)
+    z = els.transform(motions)
+    system = structure.linear_system()
+    k0 = system.stiffness[0, 0]
+    for i in range(motions.n_records):
+        peak = np.abs(z[i, :, 0]).max()
+        assert peak > 0.02  # past yield
+        # the bilinear backbone's secant at the peak: F(D) / D over k0
+        secant = (0.02 + 0.1 * (peak - 0.02)) / peak
+        soft = dataclasses.replace(system, stiffness=secant * system.stiffness)
+        again = create("preprocessor", "els").fit(structure)
+        again.system_ = soft
+        alone = again.transform(motions[i])[0]
+        # the bracket's last halving leaves s within 1e-4 of the initial stiffness
+        np.testing.assert_allclose(z[i], alone, rtol=0, atol=0.01 * peak)
+    assert k0 == 4.0e6
+
+
+def test_secant_els_is_the_initial_one_below_yield_and_closer_past_it(relative_l2):
+    structure = _isolator()
+    initial = create("preprocessor", "els").fit(structure)
+    secant = create("preprocessor", "els", stiffness="secant").fit(structure)
+    weak = _records(0.05)
+    np.testing.assert_allclose(secant.transform(weak), initial.transform(weak), rtol=1e-12)
+    strong = _records(3.0, n=12)
+    truth = structure.simulate(strong).displacement
+    assert relative_l2(secant.transform(strong), truth) < relative_l2(
+        initial.transform(strong), truth
+    )
+
+
+def test_secant_els_needs_a_pushover(toy):
+    import pytest
+
+    from cphysfno_core import CapabilityError
+
+    with pytest.raises(CapabilityError, match="pushover"):
+        create("preprocessor", "els", stiffness="secant").fit(toy)
