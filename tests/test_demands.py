@@ -79,6 +79,17 @@ def test_pelicun_reads_the_values_and_units(tmp_path, assessment):
         )
 
 
+def test_an_isolation_level_is_one_more_floor_pelicun_reads(tmp_path, assessment):
+    # two superstructure stories standing on an isolation level: ground, base, two floors
+    pfa = np.column_stack([PFA[:, 0], 0.4 * PFA[:, 0], PFA[:, 1:]])
+    written = write_pelicun_demands(tmp_path / "isolated.csv", PID, None, pfa)
+    header = written.path.read_text().splitlines()[0].split(",")
+    assert header[-4:] == ["1-PFA-0-1", "1-PFA-1-1", "1-PFA-2-1", "1-PFA-3-1"]
+    sample = _load(assessment, written.path).demand.sample
+    for k in range(4):
+        np.testing.assert_allclose(_column(sample, "PFA", str(k)), pfa[:, k], rtol=1e-14)
+
+
 def test_accelerations_in_metres_per_second_squared(tmp_path, assessment):
     written = write_pelicun_demands(tmp_path / "demands.csv", PID, None, PFA, pfa_unit="mps2")
     run = _load(assessment, written.path)
@@ -135,7 +146,7 @@ def test_no_collapse_writes_an_error_column_of_zeros_when_collapse_is_given(tmp_
         ({"pid": PID[0]}, "pid has shape (2,); it must be 2-D"),
         ({"pid": PID[:0]}, "at least one record"),
         ({"rid": RID[:, :1]}, "rid has shape (3, 1), pid (3, 2)"),
-        ({"pfa": PFA[:, :2]}, "pfa has shape (3, 2); with pid (3, 2) it must be (3, 3)"),
+        ({"pfa": PFA[:, :1]}, "pfa has shape (3, 1); with pid (3, 2) it must be [3, 1 + n_floors]"),
         ({"collapsed": np.array([0, 1, 0])}, "collapsed has dtype int64; it must be boolean"),
         ({"collapsed": np.array([False, True])}, "collapsed has shape (2,); it must be (3,)"),
         ({"collapsed": np.ones(3, bool)}, "all 3 records collapsed"),

@@ -158,7 +158,7 @@ def write_pelicun_demands(
     The file has a header row, a ``Units`` row, and one row per record labelled with the
     record's index in the arrays. Its columns are ``1-PID-s-1`` and ``1-RID-s-1`` for
     stories ``s = 1 .. n_stories`` (``unitless``), ``1-PFA-k-1`` for floor levels
-    ``k = 0 .. n_stories`` (0 the ground) in ``pfa_unit``, and, with ``collapsed`` and
+    ``k = 0 .. n_floors`` (0 the ground) in ``pfa_unit``, and, with ``collapsed`` and
     ``collapsed_rows="error"``, ``1-ERROR--`` (1 for a collapsed record, else 0). Values
     are written with Python's shortest round-trip ``repr``; a collapsed record's values
     that are not finite are left empty. The file replaces ``path`` in one step. See the
@@ -170,9 +170,12 @@ def write_pelicun_demands(
             story 1 the lowest.
         rid: ``[n_records, n_stories]`` residual story drift ratios, or None to write none
             (pelicun can estimate them from the peak drifts: ``DemandModel.estimate_RID``).
-        pfa: ``[n_records, n_stories + 1]`` peak absolute floor accelerations in m/s^2,
-            column 0 the ground (the peak ground acceleration), column ``k`` the floor at
-            the top of story ``k``.
+        pfa: ``[n_records, 1 + n_floors]`` peak absolute floor accelerations in m/s^2,
+            column 0 the ground (the peak ground acceleration), then the floors bottom up
+            (``edp.EDPs.pfa``). For stacked stories floor ``k`` is the top of story ``k``;
+            a building whose outputs include a level no story ends at (an isolation level
+            under a superstructure whose stories start there, say) has more floors than
+            stories, and location ``k`` is its ``k``-th floor bottom up.
         collapsed: ``[n_records]`` booleans, True for a record whose structure collapsed;
             None when none did (no ``ERROR`` column is written).
         pfa_unit: ``"g"`` (the default, the unit of the FEMA P-58 fragilities: the values
@@ -224,13 +227,12 @@ def write_pelicun_demands(
             )
         blocks.append(("RID", rid, range(1, n_stories + 1), DRIFT_UNIT, 1.0))
     pfa = _as_table(pfa, "pfa")
-    if pfa.shape != (n_records, n_stories + 1):
+    if pfa.shape[0] != n_records or pfa.shape[1] < 2:
         raise InputError(
             f"pelicun demand sample: pfa has shape {pfa.shape}; with pid {pid.shape} it must "
-            f"be {(n_records, n_stories + 1)}: the ground (column 0), then one floor at the "
-            "top of each story"
+            f"be [{n_records}, 1 + n_floors]: the ground (column 0), then the floors bottom up"
         )
-    blocks.append(("PFA", pfa, range(n_stories + 1), pfa_unit, PFA_UNITS[pfa_unit]))
+    blocks.append(("PFA", pfa, range(pfa.shape[1]), pfa_unit, PFA_UNITS[pfa_unit]))
     fell = _collapsed(collapsed, n_records)
 
     for name, values, _, _, _ in blocks:
