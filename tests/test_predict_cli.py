@@ -17,7 +17,7 @@ def saved(trained_toy, tmp_path):
 def test_predictions_are_the_models_and_the_summary_is_printed(saved, tmp_path, capsys):
     model, folder, gm = saved
     motions = tmp_path / "motions.npz"
-    np.savez(motions, acceleration=gm.acceleration, dt=gm.dt)
+    np.savez(motions, acceleration=gm.acceleration, dt=gm.dt, units="m/s^2")
     out = tmp_path / "pred" / "out.npz"
     assert main(["predict", str(folder), str(motions), "--out", str(out)]) == 0
     stages = model.predict_stages(gm)
@@ -47,7 +47,17 @@ def test_a_bare_array_with_its_step_and_records_on_another_grid_with_on_grid(
     array = tmp_path / "fine.npy"
     np.save(array, fine.acceleration)
     out = tmp_path / "fine-pred.npz"
-    command = ["predict", str(folder), str(array), "--out", str(out), "--dt", "0.01"]
+    command = [
+        "predict",
+        str(folder),
+        str(array),
+        "--out",
+        str(out),
+        "--dt",
+        "0.01",
+        "--units",
+        "m/s2",
+    ]
     assert main(command) == 2
     error = capsys.readouterr().err
     assert "these have 200 samples at dt = 0.01 s" in error and "--on-grid" in error
@@ -79,6 +89,30 @@ def test_bad_motion_files_are_refused(saved, tmp_path, capsys, content, extra, m
     assert not out.exists()
 
 
+def test_motions_carry_their_unit(saved, tmp_path, capsys):
+    model, folder, gm = saved
+    in_g = tmp_path / "g.npz"
+    np.savez(in_g, acceleration=gm.acceleration / 9.80665, dt=gm.dt, units="g")
+    out = tmp_path / "g-pred.npz"
+    assert main(["predict", str(folder), str(in_g), "--out", str(out)]) == 0
+    with np.load(out) as written:
+        np.testing.assert_allclose(written["mean"], model.predict(gm)[0], rtol=1e-6)
+    bare = tmp_path / "cm.npy"
+    np.save(bare, 100.0 * gm.acceleration)
+    command = ["predict", str(folder), str(bare), "--dt", "0.02", "--out", str(out)]
+    assert main([*command, "--units", "cm/s^2"]) == 0
+    with np.load(out) as written:
+        np.testing.assert_allclose(written["mean"], model.predict(gm)[0], rtol=1e-6)
+    assert main([*command, "--units", "furlong/s2"]) == 2
+    assert "--units furlong/s2: give one of m/s2, g, cm/s2" in capsys.readouterr().err
+    assert main(["predict", str(folder), str(in_g), "--units", "m/s2", "--out", str(out)]) == 2
+    assert "holds motions in g: do not give --units m/s2" in capsys.readouterr().err
+    unsaid = tmp_path / "unsaid.npz"
+    np.savez(unsaid, acceleration=gm.acceleration, dt=gm.dt)
+    with pytest.warns(cp.CphysfnoWarning, match="taken as m/s\\^2"):
+        assert main(["predict", str(folder), str(unsaid), "--out", str(out)]) == 0
+
+
 def test_a_bare_array_needs_its_step_and_the_output_an_npz_name(saved, tmp_path, capsys):
     _, folder, gm = saved
     array = tmp_path / "m.npy"
@@ -95,7 +129,7 @@ def test_a_bare_array_needs_its_step_and_the_output_an_npz_name(saved, tmp_path,
 def test_bfloat16_precision_is_passed_through(saved, tmp_path):
     model, folder, gm = saved
     motions = tmp_path / "motions.npz"
-    np.savez(motions, acceleration=gm.acceleration, dt=gm.dt)
+    np.savez(motions, acceleration=gm.acceleration, dt=gm.dt, units="m/s2")
     out = tmp_path / "low.npz"
     assert (
         main(["predict", str(folder), str(motions), "--out", str(out), "--precision", "bfloat16"])

@@ -171,6 +171,7 @@ def _predict(args: argparse.Namespace) -> int:
         on_grid=args.on_grid,
         device=args.device,
         precision=args.precision,
+        units=args.units,
     )
     print(
         f"{run.records} records predicted in {run.seconds:.2f} s "
@@ -340,7 +341,8 @@ def build_parser() -> argparse.ArgumentParser:
     study.set_defaults(func=_study)
     text = (
         "predict the displacement histories of ground motions in a file (.npz with "
-        "acceleration [N, T] in m/s^2 and dt in s, or .npy with --dt) with a saved model"
+        "acceleration [N, T], dt in s and units, or .npy with --dt and --units) with a "
+        "saved model"
     )
     predict = commands.add_parser("predict", help=text, description=text)
     predict.add_argument("model", help="a saved model's folder, e.g. runs/x/models/<label>")
@@ -351,6 +353,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     predict.add_argument("--out", required=True, help=".npz file to write")
     predict.add_argument("--dt", type=float, help="time step of a .npy file, s")
+    predict.add_argument(
+        "--units",
+        help="unit of the motions of an .npz or .npy file: m/s2, g, cm/s2, mm/s2, in/s2 or "
+        "ft/s2 (an .npz may say it in a 'units' entry; AT2 records are in g; without a "
+        "unit, m/s2 with a warning)",
+    )
     predict.add_argument(
         "--on-grid",
         action="store_true",

@@ -1,8 +1,10 @@
 """``cphysfno predict``: ground motions read from a file, a saved model's prediction for
 them written to another.
 
-Motions come as ``.npz`` (arrays ``acceleration [N, T]`` in m/s^2 and ``dt`` in s) or as
-``.npy`` (``[N, T]`` or ``[T]`` in m/s^2, with the step given separately). The output
+Motions come as ``.npz`` (arrays ``acceleration [N, T]``, ``dt`` in s and ``units``) or
+as ``.npy`` (``[N, T]`` or ``[T]``, with the step and the unit given separately), in any
+unit of :data:`ACCELERATION_UNITS` (m/s^2 with a warning where none is said), or as AT2
+records (g). The output
 ``.npz`` holds ``mean`` and ``std`` ``[N, T, dof]`` in m, the operator output, ``z`` for a
 C-Phys model, ``dt`` and ``output_names``.
 """
@@ -11,14 +13,15 @@ from __future__ import annotations
 
 import json
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..config.precision import Precision
-from ..signals import GroundMotions, TimeGrid, read_at2
-from ..signals.errors import DatasetError, InputError
+from ..signals import STANDARD_GRAVITY, GroundMotions, TimeGrid, read_at2
+from ..signals.errors import CphysfnoWarning, DatasetError, InputError
 from .composite import CompositeModel
 
 PREDICTION_ARRAYS = {
@@ -33,12 +36,31 @@ PREDICTION_ARRAYS = {
 in its ``descriptions`` entry, with the label of the model that predicted."""
 
 
+ACCELERATION_UNITS = {
+    "m/s2": 1.0,
+    "g": STANDARD_GRAVITY,
+    "cm/s2": 0.01,
+    "mm/s2": 0.001,
+    "in/s2": 0.0254,
+    "ft/s2": 0.3048,
+}
+"""The units ground motions in a file may be given in, with the m/s^2 in one of each."""
+
+
 def read_motions(
-    path: str | Path, dt: float | None = None, grid: TimeGrid | None = None
+    path: str | Path,
+    dt: float | None = None,
+    grid: TimeGrid | None = None,
+    units: str | None = None,
 ) -> GroundMotions:
-    """Ground motions from ``path``: a PEER ``.AT2`` file or a folder of them (in g, read
-    into m/s^2, each record's header kept as its metadata), ``.npz`` with ``acceleration``
-    and ``dt``, or ``.npy`` with ``dt`` given here (s).
+    """Ground motions from ``path``, in m/s^2: a PEER ``.AT2`` file or a folder of them (in
+    g by the format, each record's header kept as its metadata), ``.npz`` with
+    ``acceleration`` and ``dt`` (and ``units``, one of :data:`ACCELERATION_UNITS`), or
+    ``.npy`` with ``dt`` given here (s).
+
+    The unit of an ``.npz`` or ``.npy`` file is its ``units`` entry or ``units`` here; a
+    file with neither is taken as m/s^2 with a :class:`CphysfnoWarning` that says so
+    (records in g read as m/s^2 would be predicted ten times too weak).
 
     AT2 records of different lengths are zero-padded at the end to the longest; records
     of different time steps need ``grid``, onto which each is then resampled (so does any
@@ -48,14 +70,24 @@ def read_motions(
         DatasetError: the file is missing, unreadable or lacks an array; a folder holds no
             AT2 file.
         InputError: ``dt`` is missing for a ``.npy`` file or given twice, AT2 records of
-            different time steps without ``grid``, or the values are not ground motions
-            (see :class:`GroundMotions`).
+            different time steps without ``grid``, a unit that is unknown, given for AT2
+            records in another unit than g, or given here against the file's own, or the
+            values are not ground motions (see :class:`GroundMotions`).
     """
     path = Path(path)
+    if units is not None and _unit_name(units) not in ACCELERATION_UNITS:
+        raise InputError(f"--units {units}: give one of {', '.join(ACCELERATION_UNITS)} (or m/s^2)")
     if path.is_dir() or path.suffix.lower() == ".at2":
+        if units is not None and _unit_name(units) != "g":
+            raise InputError(f"{path}: AT2 records are in g by the format, not {units}")
         return _read_at2_records(path, dt, grid)
-    motions = _read_arrays(path, dt)
+    motions = _read_arrays(path, dt, units)
     return motions if grid is None else motions.on_grid(grid)
+
+
+def _unit_name(unit: str) -> str:
+    """``unit`` with ``^`` and spaces dropped: ``m/s^2`` is ``m/s2``."""
+    return str(unit).replace("^", "").replace(" ", "")
 
 
 def _read_at2_records(path: Path, dt: float | None, grid: TimeGrid | None) -> GroundMotions:
@@ -88,7 +120,7 @@ def _read_at2_records(path: Path, dt: float | None, grid: TimeGrid | None) -> Gr
     return GroundMotions(ag, steps[0], [r.metadata for r in records])
 
 
-def _read_arrays(path: Path, dt: float | None) -> GroundMotions:
+def _read_arrays(path: Path, dt: float | None, units: str | None) -> GroundMotions:
     """Ground motions from an ``.npz`` or ``.npy`` file (see :func:`read_motions`)."""
     if not path.is_file():
         raise DatasetError(f"{path}: no such file of ground motions")
@@ -106,10 +138,18 @@ def _read_arrays(path: Path, dt: float | None) -> GroundMotions:
             arrays = {"acceleration": np.load(path, allow_pickle=False)}
     except (OSError, ValueError) as error:
         raise DatasetError(f"{path}: not a readable NumPy file ({error})") from None
+    stored_unit = str(arrays["units"]) if "units" in arrays else None
+    if (
+        stored_unit is not None
+        and units is not None
+        and _unit_name(stored_unit) != _unit_name(units)
+    ):
+        raise InputError(f"{path} holds motions in {stored_unit}: do not give --units {units}")
+    factor = _factor(path, stored_unit or units)
     if suffix == ".npy":
         if dt is None:
             raise InputError(f"{path} is a bare array: give its time step (--dt, s)")
-        return GroundMotions(arrays["acceleration"], dt)
+        return GroundMotions(factor * np.asarray(arrays["acceleration"], dtype=np.float64), dt)
     missing = {"acceleration", "dt"} - set(arrays)
     if missing:
         raise DatasetError(
@@ -118,7 +158,25 @@ def _read_arrays(path: Path, dt: float | None) -> GroundMotions:
         )
     if dt is not None:
         raise InputError(f"{path} holds its own dt: do not give another")
-    return GroundMotions(arrays["acceleration"], float(arrays["dt"]))
+    acceleration = factor * np.asarray(arrays["acceleration"], dtype=np.float64)
+    return GroundMotions(acceleration, float(arrays["dt"]))
+
+
+def _factor(path: Path, unit: str | None) -> float:
+    """m/s^2 in one ``unit`` (a warning and 1 where there is no unit)."""
+    if unit is None:
+        warnings.warn(
+            f"{path} says nothing of its unit: its ground motions are taken as m/s^2 (give "
+            "--units, or a 'units' entry in the .npz, e.g. 'g')",
+            CphysfnoWarning,
+            stacklevel=4,
+        )
+        return 1.0
+    if _unit_name(unit) not in ACCELERATION_UNITS:
+        raise InputError(
+            f"{path}: unit '{unit}' is not one of {', '.join(ACCELERATION_UNITS)} (or m/s^2)"
+        )
+    return ACCELERATION_UNITS[_unit_name(unit)]
 
 
 @dataclass
@@ -142,6 +200,7 @@ def predict_file(
     on_grid: bool = False,
     device: str = "auto",
     precision: Precision = "float32",
+    units: str | None = None,
 ) -> PredictionRun:
     """Load the model in ``model_dir``, predict the motions of ``motions_path`` and write
     ``out`` (``.npz``).
@@ -152,6 +211,7 @@ def predict_file(
         device: where the operator runs (a ``training.device`` setting).
         precision: the operator's arithmetic, ``"float32"`` or ``"bfloat16"`` (see
             :meth:`CompositeModel.predict_stages`).
+        units: the unit of the motions in the file (see :func:`read_motions`).
 
     Raises:
         InputError: ``out`` is not an ``.npz`` name, or the motions are on another grid
@@ -161,7 +221,7 @@ def predict_file(
     if out.suffix != ".npz":
         raise InputError(f"--out {out}: name an .npz file")
     model = CompositeModel.load(model_dir).to(device)
-    motions = read_motions(motions_path, dt, model.grid if on_grid else None)
+    motions = read_motions(motions_path, dt, model.grid if on_grid else None, units)
     started = time.perf_counter()
     stages = model.predict_stages(motions, precision=precision)
     seconds = time.perf_counter() - started
