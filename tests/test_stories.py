@@ -49,7 +49,7 @@ def test_drifts_and_the_first_sample_past_a_drift_ratio_by_hand():
         ((None,), (True,), (3.0,), "integers"),
         ((0,), (0,), (3.0,), "both ends"),
         ((None,), (0,), (0.0,), "finite and > 0"),
-        ((None,), (0,), (float("nan"),), "finite and > 0"),
+        ((None,), (0,), (float("inf"),), "finite and > 0"),
         ((None,), (0,), ("tall",), "numbers of m"),
     ],
 )
@@ -110,3 +110,13 @@ class StoriesDeclaredOnly(toy_components.ToyStructure):
 def test_the_check_catches_broken_stories(structure, message):
     with pytest.raises(AssertionError, match=message):
         testing.check_structure(structure)
+
+
+def test_a_story_without_height_has_its_drift_but_no_ratio():
+    stories = cp.Stories((None, 0), (0, 1), (float("nan"), 3.0))
+    assert not stories.has_heights and stories.without_height() == ("story-1",)
+    assert cp.Stories.stacked([3.0, 3.0]).has_heights
+    u = np.zeros((1, 3, 2))
+    u[0, 1] = [0.5, 0.8]  # story 1 drifts 0.5 m, story 2 0.3 m (a ratio of 0.1)
+    assert stories.first_past(u, 0.09).tolist() == [1]  # story 2 only: story 1 has no ratio
+    assert stories.first_past(u, 0.2).tolist() == [-1]

@@ -21,6 +21,7 @@ from .reporting.edp import (
     interval,
     log_errors,
     pad_free_vibration,
+    require_heights,
     stories_of,
 )
 from .signals.stories import Stories
@@ -36,5 +37,6 @@ __all__ = [
     "interval",
     "log_errors",
     "pad_free_vibration",
+    "require_heights",
     "stories_of",
 ]

@@ -42,6 +42,7 @@ def write_demand_sample(
     """
     trained = load_trained_run(Path(run), model_label)
     model, structure = trained.model, trained.structure
+    edp.require_heights(edp.stories_of(structure), "a pelicun demand sample")
     if motions_file is not None:
         motions = read_motions(motions_file)
         collapsed = np.zeros(motions.n_records, dtype=bool)

@@ -253,6 +253,8 @@ def run_fragility(
         trained.model,
         trained.structure,
     )
+    if any(state.demand == "pid" for state in limit_states):
+        edp.require_heights(edp.stories_of(structure), "a fragility on pid")
     t1 = float(structure.periods(1)[0])
     im = intensity_measure(measure, t1)
     data = load_dataset(run / DATASET)

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..api.interfaces import Structure
 from ..signals import GroundMotions, Responses, Stories
-from ..signals.errors import InputError
+from ..signals.errors import ConfigError, InputError
 from ..signals.histories import ACCELERATION_EXTRA
 
 
@@ -30,7 +30,8 @@ class EDPs:
         pid: ``[n_records, n_stories]`` peak story drift ratio: the largest ``|drift(t)|``
             over the record, over the story height (dimensionless, m/m).
         rid: ``[n_records, n_stories]`` residual story drift ratio: ``|drift|`` at the end
-            of the record over the story height (see :func:`compute`).
+            of the record over the story height (see :func:`compute`). For a story without
+            height (``stories.heights_m`` nan) PID and RID are its drifts in m.
         pfa: ``[n_records, 1 + n_floors]`` peak absolute floor acceleration in m/s^2;
             column 0 is the ground (the peak ground acceleration), column ``j + 1`` is
             output ``stories.floors[j]``.
@@ -120,7 +121,8 @@ def compute(
     accelerations (PFA) of every record.
 
     Story ``s`` drifts by ``d_s(t) = u_upper(t) - u_lower(t)`` (``u_lower = 0`` for the
-    ground), in m; ``PID_s = max_t |d_s(t)| / h_s``.
+    ground), in m; ``PID_s = max_t |d_s(t)| / h_s`` (``h_s = 1`` for a story without
+    height: its PID and RID are drifts in m).
 
     ``RID_s = |d_s(t_end)| / h_s``, where ``d_s(t_end)`` is the drift at the last sample
     (``free_vibration_s = 0``, the default) or, when the record ends with
@@ -171,7 +173,7 @@ def compute(
     stories.check_outputs(u.shape[2])
     window = _residual_window(motions, free_vibration_s)
     drift = stories.drifts(u)
-    heights = np.asarray(stories.heights_m)
+    heights = _per_metre(stories)
     pid = np.max(np.abs(drift), axis=1) / heights
     rid = np.abs(np.mean(drift[:, window], axis=1)) / heights
     floors = list(stories.floors)
@@ -229,7 +231,7 @@ def band_interval(
     bottom_high = np.where(ground, 0.0, high[:, :, bottom_index])
     drift_low = low[:, :, top] - bottom_high
     drift_high = high[:, :, top] - bottom_low
-    heights = np.asarray(stories.heights_m)
+    heights = _per_metre(stories)
     pid_lower = np.max(_distance_from_zero(drift_low, drift_high), axis=1) / heights
     pid_upper = np.max(np.maximum(np.abs(drift_low), np.abs(drift_high)), axis=1) / heights
     mean_low = np.mean(drift_low[:, window], axis=1)
@@ -296,6 +298,25 @@ def log_errors(predicted: EDPs, truth: EDPs) -> dict[str, dict[str, list[float]]
             for name, q in LOG_ERROR_QUANTILES.items()
         }
     return found
+
+
+def _per_metre(stories: Stories) -> np.ndarray:
+    """``[n_stories]`` what a drift (m) is divided by: the height in m, or 1 for a story
+    without height (whose "ratio" is then its drift in m)."""
+    heights = np.asarray(stories.heights_m, dtype=np.float64)
+    return np.where(np.isnan(heights), 1.0, heights)
+
+
+def require_heights(stories: Stories, what: str) -> None:
+    """Raise :class:`ConfigError` unless every story has a height: ``what`` needs drift
+    ratios."""
+    if not stories.has_heights:
+        missing = ", ".join(stories.without_height())
+        raise ConfigError(
+            f"{what} needs story drift ratios, but {missing} of the structure have no height "
+            "(their ends stand at one elevation, as zeroLength springs or an isolator do): "
+            "give the structure story_heights or drift_pairs"
+        )
 
 
 def _nanquantile(values: np.ndarray, q: float) -> float:

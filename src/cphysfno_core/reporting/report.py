@@ -335,6 +335,14 @@ def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
             " of " + ", ".join(f"`{k}`" for k in learned) + " comes from the accelerations "
             "they predict; that of the other rows is"
         )
+    if not truth.stories.has_heights:
+        lines += [
+            f"{', '.join(truth.stories.without_height())} of `{structure}` have no height: "
+            "their PID below is their peak drift in m, not a ratio (give the structure "
+            "story_heights or drift_pairs for ratios, which fragility on PID and pelicun "
+            "demands need).",
+            "",
+        ]
     median_pid = ", ".join(f"{100 * v:.3g}" for v in np.nanmedian(truth.pid, axis=0))
     median_pfa = ", ".join(f"{v:.3g}" for v in np.nanmedian(truth.pfa[:, 1:], axis=0))
     lines += [

@@ -27,16 +27,21 @@ class Stories:
     bridge whose outputs are pier tops has one "story" per pier, from the ground to its top
     (``lower`` all ``None``).
 
+    A story may have no height (``nan``): one of ``zeroLength`` springs, or an isolator,
+    whose ends stand at one elevation. Its drift is known, its drift ratio is not
+    (:attr:`has_heights`).
+
     Attributes:
         lower: ``[n_stories]`` output index of each story's bottom, or ``None`` for the
             ground.
         upper: ``[n_stories]`` output index of each story's top.
-        heights_m: ``[n_stories]`` story heights in m, each finite and > 0.
+        heights_m: ``[n_stories]`` story heights in m, each finite and > 0, or ``nan`` for
+            a story without height.
 
     Raises:
         InputError: the three have different lengths, none is given, an index is negative
-            or not an integer, a story's top is its bottom, or a height is not a finite
-            number > 0.
+            or not an integer, a story's top is its bottom, or a height is neither a finite
+            number > 0 nor ``nan``.
     """
 
     lower: tuple[int | None, ...]
@@ -92,6 +97,15 @@ class Stories:
         return tuple(sorted(ends))
 
     @property
+    def has_heights(self) -> bool:
+        """Whether every story has a height (and so a drift ratio)."""
+        return not any(math.isnan(h) for h in self.heights_m)
+
+    def without_height(self) -> tuple[str, ...]:
+        """The names of the stories that have no height."""
+        return tuple(n for n, h in zip(self.names, self.heights_m, strict=True) if math.isnan(h))
+
+    @property
     def names(self) -> tuple[str, ...]:
         """``story-1`` ... ``story-n``, in the order of the stories."""
         return tuple(f"story-{s + 1}" for s in range(self.n_stories))
@@ -108,9 +122,10 @@ class Stories:
 
     def first_past(self, u: np.ndarray, drift_ratio: float) -> np.ndarray:
         """``[n]`` the first sample at which a story's drift ratio exceeds ``drift_ratio``
-        in each record of ``u [n, T, n_outputs]`` (m), or -1 where none does."""
+        in each record of ``u [n, T, n_outputs]`` (m), or -1 where none does (stories
+        without height never do)."""
         ratio = np.abs(self.drifts(u)) / np.asarray(self.heights_m)
-        past = np.any(ratio > drift_ratio, axis=2)
+        past = np.any(np.nan_to_num(ratio, nan=0.0) > drift_ratio, axis=2)
         return np.where(past.any(axis=1), np.argmax(past, axis=1), -1)
 
     def check_outputs(self, n_outputs: int) -> None:
@@ -140,6 +155,11 @@ def _height(value: object) -> float:
         height = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
         raise InputError(f"Stories.heights_m: heights are numbers of m, got {value!r}") from None
+    if math.isnan(height):
+        return height
     if not math.isfinite(height) or height <= 0.0:
-        raise InputError(f"Stories.heights_m: heights must be finite and > 0 m, got {value!r}")
+        raise InputError(
+            f"Stories.heights_m: heights must be finite and > 0 m (or nan: no height), got "
+            f"{value!r}"
+        )
     return height

@@ -249,16 +249,20 @@ class OpenSeesModel(OpenSeesStructure):
           (the last coordinate: y in 2D, z in 3D). Outputs at distinct elevations are
           floors one above the other (the lowest over the ground, the elevation of the
           lowest restrained node); where several share an elevation (piers, or joints of
-          one floor), each is a story from the ground.
+          one floor), each is a story from the ground; where every output stands at the
+          ground's elevation (a shear building of ``zeroLength`` springs), the outputs in
+          their order are floors one above the other.
 
-        Heights are converted to m from ``length_unit``.
+        Heights are converted to m from ``length_unit``. A story whose ends stand at one
+        elevation (``zeroLength`` springs, an isolator) has no height (``nan``): its drift
+        is reported in m, and what needs drift ratios (fragility on PID, pelicun demands)
+        asks for ``story_heights`` or ``drift_pairs``.
 
         Raises:
             ScriptError: a node of ``drift_pairs`` is not an output along the excitation
                 (nor, for the lower one, restrained), or the stories cannot be told from
-                the model (a one-dimensional model, no output along the excitation, an
-                output at the ground's elevation): give ``story_heights`` or
-                ``drift_pairs``.
+                the model (a one-dimensional model, no output along the excitation): give
+                ``story_heights`` or ``drift_pairs``.
         """
         p = self.params
         f = self.metres_per_unit
@@ -287,7 +291,12 @@ class OpenSeesModel(OpenSeesStructure):
             ground = min(map(elevation, summary.restrained or summary.coordinates))
             floors = sorted(along, key=elevation)
             levels = [elevation(node) for node in floors]
-            if len(set(levels)) == len(levels):
+            if all(level == ground for level in levels):  # zeroLength stories: output order
+                floors = sorted(along, key=along.__getitem__)
+                below = [None, *floors[:-1]]
+                for bottom, top in zip(below, floors, strict=True):
+                    spans.append((None if bottom is None else along[bottom], ground, top))
+            elif len(set(levels)) == len(levels):
                 below = [None, *floors[:-1]]
                 for bottom, top in zip(below, floors, strict=True):
                     base = ground if bottom is None else elevation(bottom)
@@ -311,10 +320,7 @@ class OpenSeesModel(OpenSeesStructure):
         for bottom, base, top in spans:
             height = abs(elevation(top) - base)
             if not height > 0.0:
-                raise ScriptError(
-                    f"{self.name}: the story up to node {top} of OpenSees script "
-                    f"{self.spec.script} has no height: give story_heights or drift_pairs"
-                )
+                height = float("nan")  # zeroLength springs: a drift in m, not a ratio
             lower.append(bottom)
             upper.append(along[top])
             heights.append(height)

@@ -1,0 +1,86 @@
+"""A shear building of zeroLength springs, every node at the ground's elevation: its stories
+have no height, and it still runs end to end, its drifts reported in m; what needs drift
+ratios asks for story heights before any work."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import script_models as sm
+
+import cphysfno_core as cp
+from cphysfno_core import edp
+from cphysfno_core.app import pipeline
+from cphysfno_core.testing import check_structure
+
+SPRINGS = """
+import openseespy.opensees as ops
+
+MASS = 2.0e4  # kg a floor
+STIFFNESS = (4.0e7, 3.0e7, 2.0e7)  # N/m a story
+YIELD = 0.01  # m of drift
+
+
+def build():
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for node in range(4):
+        ops.node(node, 0.0, 0.0)
+        ops.fix(node, 1 if node == 0 else 0, 1, 1)
+    for story, k in enumerate(STIFFNESS, start=1):
+        ops.mass(story, MASS, 0.0, 0.0)
+        ops.uniaxialMaterial("Steel01", story, k * YIELD, k, 0.05)
+        ops.element("zeroLength", story, story - 1, story, "-mat", story, "-dir", 1,
+                    "-doRayleigh", 1)
+"""
+
+OUTPUTS = [[1, 1], [2, 1], [3, 1]]
+
+
+@pytest.fixture(scope="module")
+def springs(tmp_path_factory):
+    path = tmp_path_factory.mktemp("springs") / "springs.py"
+    path.write_text(SPRINGS)
+    return path
+
+
+def test_the_stories_stand_on_each_other_without_heights(springs):
+    model = cp.create("structure", "opensees-model", script=str(springs), outputs=OUTPUTS)
+    stories = model.stories()
+    assert stories.lower == (None, 0, 1) and stories.upper == (0, 1, 2)
+    assert np.isnan(stories.heights_m).all() and not stories.has_heights
+    check_structure(model)
+    motions = sm.records(n=1, n_steps=301, peak=3.0)
+    responses = model.simulate(motions)
+    u = responses.displacement
+    found = edp.compute(responses, model, motions)
+    drift = np.diff(np.concatenate([np.zeros((1, 301, 1)), u], axis=2), axis=2)
+    np.testing.assert_allclose(found.pid[0], np.abs(drift[0]).max(axis=0))  # m, not a ratio
+    with pytest.raises(cp.ConfigError, match="story-1, story-2, story-3 of the structure have no"):
+        edp.require_heights(stories, "a fragility on pid")
+
+
+def test_a_run_goes_end_to_end_and_fragility_asks_for_heights(springs, tmp_path, capsys):
+    from cphysfno_core.app.cli import main
+
+    config = cp.parse_config(
+        {
+            "structure": {"name": "opensees-model", "script": str(springs), "outputs": OUTPUTS},
+            "ground_motion": {"name": "white-noise", "duration": 3.0},
+            "preprocessor": [{"name": "els"}],
+            "operator": {"name": "fno", "layers": 1, "modes": 4, "width": 4},
+            "data": {"n_train": 4, "n_val": 2, "n_test": 2, "chunk_size": 8, "executor": "serial"},
+            "training": {"epochs": 1, "batch_size": 2},
+            "output": {"figures": False},
+        }
+    )
+    pipeline.run(config, tmp_path)
+    metrics = json.loads((tmp_path / "metrics.json").read_text())
+    assert np.isnan(metrics["edp"]["heights_m"]).all()
+    report = (tmp_path / "report.md").read_text()
+    assert "story-1, story-2, story-3 of `opensees-model` have no height" in report
+    command = ["fragility", str(tmp_path), "--records", "4", "--limit-states", "pid=0.01"]
+    assert main(command) == 2
+    assert "give the structure story_heights or drift_pairs" in capsys.readouterr().err
+    assert not (tmp_path / "fragility").exists()
