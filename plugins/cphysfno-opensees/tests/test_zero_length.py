@@ -59,6 +59,9 @@ def test_the_stories_stand_on_each_other_without_heights(springs):
     np.testing.assert_allclose(found.pid[0], np.abs(drift[0]).max(axis=0))  # m, not a ratio
     with pytest.raises(cp.ConfigError, match="story-1, story-2, story-3 of the structure have no"):
         edp.require_heights(stories, "a fragility on pid")
+    for name, params in (("stick", {}), ("els", {"stiffness": "secant"})):
+        with pytest.raises(cp.ConfigError, match="give the structure story_heights"):
+            cp.create("preprocessor", name, **params).fit(model)
 
 
 def test_a_run_goes_end_to_end_and_fragility_asks_for_heights(springs, tmp_path, capsys):

@@ -10,7 +10,14 @@ import scipy.linalg
 from pydantic import Field
 
 import cphysfno_core
-from cphysfno_core import ConfigError, GroundMotions, LinearSystem, PhysicsPreprocessor, Structure
+from cphysfno_core import (
+    ConfigError,
+    GroundMotions,
+    LinearSystem,
+    PhysicsPreprocessor,
+    Structure,
+    edp,
+)
 from cphysfno_core.signals import monotonic_protocol
 
 from .fitted import check_fitted
@@ -154,6 +161,7 @@ def secant_curve(structure: Structure, target_drift_ratio: float) -> tuple[tuple
     structure.require("pushover", "preprocessor 'els' with stiffness = 'secant'")
     structure.require("stories", "preprocessor 'els' with stiffness = 'secant'")
     stories = structure.stories()
+    edp.require_heights(stories, "els with stiffness = 'secant' (a pushover by drift ratio)")
     if not stories.is_stacked:
         raise ConfigError(
             f"els with stiffness = 'secant': structure '{structure.name}' has stories that do "

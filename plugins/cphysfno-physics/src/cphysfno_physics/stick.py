@@ -16,6 +16,7 @@ from cphysfno_core import (
     Stories,
     Structure,
     create,
+    edp,
 )
 from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 
@@ -95,6 +96,7 @@ class Stick(PhysicsPreprocessor):
         """
         self.check(structure)
         p = self.params
+        edp.require_heights(structure.stories(), "the stick (a pushover by drift ratio)")
         floors = _floors(structure.stories(), structure.n_outputs, structure.name)
         pattern = None if p.pattern is None else np.asarray(p.pattern)
         backbone = structure.story_pushover(monotonic_protocol(p.target_drift_ratio), pattern)
@@ -111,7 +113,6 @@ class Stick(PhysicsPreprocessor):
         motion's grid."""
         check_fitted(self, "stick_")
         return self.stick_.simulate(motions).displacement[:, :, self.floors_]
-
 
     def write_artifacts(self, directory: Path) -> list[Path]:
         """The calibration (``stick.json``), its summary (``summary.md``, with a warning
