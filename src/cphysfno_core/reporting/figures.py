@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import NullLocator
 from scipy.signal import welch
 
 from ..signals.intensity import STANDARD_GRAVITY, SpectrumBand, response_spectrum
@@ -410,6 +411,8 @@ def learning_curve(
                 sizes, mean, yerr=[mean - low, high - mean], label=label, capsize=2, **style
             )
         ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.xaxis.set_minor_locator(NullLocator())
         ax.set_xticks(sizes, [str(v) for v in values])
         ax.set_xlabel("training simulations")
         ax.set_ylabel(f"median |ln(pred / sim)| of {key}, mean over locations")
