@@ -51,7 +51,7 @@ def test_els_on_the_building_at_tiny_amplitude(building, paper_motions, relative
 
 
 def test_els_error_on_paper_white_noise(building, paper_motions, paper_truth, relative_l2):
-    """DESIGN.md: the ELS alone is at relative L2 of about 0.45-0.50 per story."""
+    """Example 1 as specified: the ELS alone is at relative L2 of about 0.45-0.50 per story."""
     z = create("preprocessor", "els").fit(building).transform(paper_motions)
     error = relative_l2(z, paper_truth)
     print(f"ELS relative L2 to truth per story: {np.round(error, 3)}")

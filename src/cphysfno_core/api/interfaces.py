@@ -1,5 +1,6 @@
-"""The five component interfaces: Structure, GroundMotionSource, PhysicsPreprocessor,
-NeuralOperator and Refiner.
+"""Five of the six component interfaces: Structure, GroundMotionSource,
+PhysicsPreprocessor, NeuralOperator and Refiner (the sixth, the story law, is in
+:mod:`cphysfno_core.api.story_law`).
 
 Every component class carries a registry ``name``, its ``kind`` and a pydantic ``Params``
 model (``extra="forbid"``) that validates its constructor arguments; the constructor only

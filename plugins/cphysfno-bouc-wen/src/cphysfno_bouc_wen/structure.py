@@ -17,7 +17,8 @@ Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 
 
 class BoucWenShearBuildingParams(Params):
-    """Parameters of :class:`BoucWenShearBuilding` (defaults: DESIGN.md, Example 1)."""
+    """Parameters of :class:`BoucWenShearBuilding` (defaults: Example 1 of the paper, §5.1,
+    with the story stiffnesses this project fixes, which the paper leaves out)."""
 
     masses: tuple[Positive, ...] = Field(
         (3.0e4,) * 5, min_length=1, description="floor masses from the bottom up, kg"
