@@ -11,6 +11,7 @@ import torch
 import cphysfno_core as cp
 from cphysfno_core import edp
 from cphysfno_core.app import pipeline
+from cphysfno_core.model.prediction_files import predict_file
 from cphysfno_core.model.training import relative_l2_loss
 
 CONFIG = {
@@ -76,6 +77,14 @@ def test_a_run_learns_accelerations_and_takes_pfa_from_them(toy_registry, tmp_pa
 
     report = (tmp_path / "report.md").read_text()
     assert "## Absolute acceleration (test split)" in report
+
+    # cphysfno predict writes the predicted accelerations beside the displacements
+    motions_file = tmp_path / "motions.npz"
+    np.savez(motions_file, acceleration=motions.acceleration, dt=motions.dt, units="m/s2")
+    folder = tmp_path / "models" / "c-phystoy-operator-toy-linear"
+    predict_file(folder, motions_file, tmp_path / "predicted.npz")
+    with np.load(tmp_path / "predicted.npz") as written:
+        np.testing.assert_allclose(written["acceleration"], stages.acceleration, rtol=1e-6)
     assert "comes from the accelerations they predict" in report
 
 

@@ -4,9 +4,9 @@ them written to another.
 Motions come as ``.npz`` (arrays ``acceleration [N, T]``, ``dt`` in s and ``units``) or
 as ``.npy`` (``[N, T]`` or ``[T]``, with the step and the unit given separately), in any
 unit of :data:`ACCELERATION_UNITS` (m/s^2 with a warning where none is said), or as AT2
-records (g). The output
-``.npz`` holds ``mean`` and ``std`` ``[N, T, dof]`` in m, the operator output, ``z`` for a
-C-Phys model, ``dt`` and ``output_names``.
+records (g). The output ``.npz`` holds ``mean`` and ``std`` ``[N, T, dof]`` in m, the
+operator output, ``z`` for a C-Phys model, ``acceleration`` (m/s^2) for a model that
+learns it, ``dt`` and ``output_names``.
 """
 
 from __future__ import annotations
@@ -29,6 +29,10 @@ PREDICTION_ARRAYS = {
     "std": ["m", "its standard deviation [record, sample, output]"],
     "operator_output": ["m", "the neural operator's prediction before refinement"],
     "z": ["m", "the physics response z the operator started from"],
+    "acceleration": [
+        "m/s^2",
+        "predicted absolute acceleration [record, sample, output] (a model that learns it)",
+    ],
     "dt": ["s", "time step of the records"],
     "output_names": ["", "names of the outputs, in the order of the last axis"],
 }
@@ -236,6 +240,8 @@ def predict_file(
     }
     if stages.z is not None:
         arrays["z"] = stages.z
+    if stages.acceleration is not None:
+        arrays["acceleration"] = stages.acceleration
     described = {k: v for k, v in PREDICTION_ARRAYS.items() if k in arrays}
     arrays["descriptions"] = np.array(json.dumps({**described, "model": model.label}))
     out.parent.mkdir(parents=True, exist_ok=True)
