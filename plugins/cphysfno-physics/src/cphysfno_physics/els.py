@@ -155,6 +155,19 @@ class EquivalentLinear(PhysicsPreprocessor):
         return dataclasses.replace(self.system_, stiffness=stiffness, damping=damping)
 
 
+class SecantEquivalentLinear(EquivalentLinear):
+    """``els`` whose stiffness is the secant one by default (``stiffness = "secant"``): its
+    own name, so that a run can compare it with the initial-stiffness ``els``."""
+
+    name = "els-secant"
+    requires = EquivalentLinear.requires | {"pushover", "stories"}
+
+    class Params(EquivalentLinear.Params):
+        stiffness: Literal["initial", "secant"] = Field(
+            "secant", description="as for els, secant by default"
+        )
+
+
 def secant_curve(structure: Structure, target_drift_ratio: float) -> tuple[tuple, int]:
     """``((roof displacement [p] m, secant over initial stiffness [p]), roof output)`` of
     the structure's monotonic pushover (first mode times floor masses)."""
