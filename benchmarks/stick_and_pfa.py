@@ -1,0 +1,224 @@
+"""The ``stick`` physics and the surrogates' floor accelerations on two structures a user
+writes: the fibre RC frame of examples/rc-frame.toml and the building on bilinear isolators
+of examples/isolated-building.toml (both OpenSeesPy models, kN-m-tonne).
+
+Physics (``python -m benchmarks.stick_and_pfa``): for each config, records drawn from its
+own ground-motion source (20 s at 0.01 s, seed 1, not the run's data seed) are analysed by
+the structure; the ones that take it past yield are kept (RC frame: largest peak story
+drift ratio from 0.5 % to 2 %; isolated building: every record, its isolators yield at
+11 mm and move several times that). On them, the pooled relative L2 of ``z`` against the
+structure's displacements (over every record, sample and output) of ``stick``, of the
+``els`` of the initial stiffness and of ``relaxed`` (the structure itself at 5 dt), and
+the stick's calibration: the law chosen, every law's fit error per story, the stick's
+periods beside the structure's.
+
+Speed: per record of 20 s at 100 Hz, on one core (the process's CPU affinity cut to one
+core, which the compiled kernels' threads follow), warm, the median of 5 runs over all the
+kept records for ``stick`` and ``els``; the structure's own analysis and ``relaxed`` in
+one OpenSees worker process on the same core, one run over 4 records (they take seconds a
+record).
+
+Surrogates (``--runs rc-frame=DIR isolated-building=DIR``): from the ``metrics.json`` of a
+finished ``cphysfno run`` of each config, per floor the median over test records of
+|ln(predicted / simulated)| of the peak floor acceleration (PFA) and of the peak story
+drift (PID), for every model, every physics input and both baselines, and how each row's
+PFA was obtained (``pfa_from``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+import cphysfno_core as cp
+from cphysfno_core import CphysfnoWarning, GroundMotions, edp
+
+from .common import Timing, load_average, machine, median_time, on_cores
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+CONFIGS = ("rc-frame", "isolated-building")
+DRIFT_WINDOW = {"rc-frame": (0.005, 0.02), "isolated-building": None}
+"""Largest peak story drift ratio a kept record has (None: every record)."""
+TARGETS = {"rc-frame": 0.30, "isolated-building": 0.10}
+"""Pooled relative L2 of the stick's z the physics is asked to reach."""
+SEED = 1
+TIMED_SIMULATIONS = 4
+
+
+def pooled_l2(estimate: np.ndarray, truth: np.ndarray) -> float:
+    """sqrt(sum (estimate - truth)^2 / sum truth^2) over every record, sample and output."""
+    return float(np.sqrt(np.sum((estimate - truth) ** 2) / np.sum(truth**2)))
+
+
+def _structure(config: cp.ExperimentConfig, workers: int) -> cp.Structure:
+    return cp.create(
+        "structure", config.structure.name, **{**config.structure.params, "workers": workers}
+    )
+
+
+def physics(name: str, n_records: int) -> dict:
+    """Accuracy of the physics inputs on records past yield, the stick's calibration and
+    the time per record of each (see the module's docstring)."""
+    config = cp.load_config(EXAMPLES / f"{name}.toml")
+    source = cp.create("ground_motion", config.ground_motion.name, **config.ground_motion.params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CphysfnoWarning)
+        motions = source.sample(n_records, np.random.default_rng(SEED))
+    structure = _structure(config, workers=2)
+    truth = structure.simulate(motions)
+    pid = edp.compute(truth, structure, motions).pid
+    largest = np.nanmax(pid, axis=1)
+    window = DRIFT_WINDOW[name]
+    keep = np.isfinite(largest)
+    if truth.collapsed is not None:
+        keep &= ~truth.collapsed
+    if window is not None:
+        keep &= (largest >= window[0]) & (largest <= window[1])
+    kept = GroundMotions(motions.acceleration[keep], motions.dt)
+    u = truth.displacement[keep]
+
+    start = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CphysfnoWarning)
+        stick = cp.create("preprocessor", "stick").fit(structure)
+    fit_s = time.perf_counter() - start
+    els = cp.create("preprocessor", "els").fit(structure)
+    relaxed = cp.create("preprocessor", "relaxed", factor=5).fit(structure)
+    z = {"stick": stick.transform(kept), "els": els.transform(kept)}
+    z["relaxed"] = relaxed.transform(kept)
+    calibration = stick.calibration_
+    result = {
+        "records_drawn": n_records,
+        "records_kept": int(keep.sum()),
+        "kept_peak_drift_ratio": [float(largest[keep].min()), float(largest[keep].max())],
+        "median_peak_drift_ratio_per_story": np.nanmedian(pid[keep], axis=0).tolist(),
+        "pooled_rel_l2": {k: pooled_l2(v, u) for k, v in z.items()},
+        "rel_l2_per_output": {k: cp.metrics.relative_l2(v, u).tolist() for k, v in z.items()},
+        "target": TARGETS[name],
+        "calibration": {
+            "law": calibration.law,
+            "fit_errors": {law: fit.errors for law, fit in calibration.fits.items()},
+            "periods": calibration.periods.tolist(),
+            "stick_periods": calibration.stick_periods.tolist(),
+            "stiffness_scale": calibration.stiffness_scale,
+            "fit_s": fit_s,
+            "warnings": [str(w.message) for w in caught],
+        },
+    }
+    if name == "isolated-building":
+        peaks = np.abs(u[:, :, 0]).max(axis=1)
+        result["isolator_peak_m"] = np.quantile(peaks, [0.0, 0.5, 1.0]).tolist()
+
+    load_before = load_average()
+    with on_cores(1):
+        single = _structure(config, workers=1)
+        one_relaxed = cp.create("preprocessor", "relaxed", factor=5).fit(single)
+        few = GroundMotions(kept.acceleration[:TIMED_SIMULATIONS], kept.dt)
+        timing = {}
+        for label, function in (
+            ("stick", lambda: stick.transform(kept)),
+            ("els", lambda: els.transform(kept)),
+        ):
+            seconds, how = median_time(function, runs=5, warmup=1)
+            timing[label] = (seconds / kept.n_records, how)
+        for label, function in (
+            ("structure", lambda: single.simulate(few)),
+            ("relaxed", lambda: one_relaxed.transform(few)),
+        ):
+            function()  # warm: the worker's model probed, OpenSees loaded
+            start = time.perf_counter()
+            function()
+            seconds = time.perf_counter() - start
+            timing[label] = (seconds / few.n_records, Timing(1, True, 1, "single"))
+    result["seconds_per_record"] = {k: v[0] for k, v in timing.items()}
+    result["timing"] = {k: str(v[1]) for k, v in timing.items()}
+    result["load_average"] = [load_before, load_average()]
+    result["n_steps"] = kept.n_steps
+    return result
+
+
+def surrogates(run: Path) -> dict:
+    """Per floor PFA and per story PID median |ln| errors of every row of a run's
+    metrics.json, with where each row's PFA came from."""
+    metrics = json.loads((run / "metrics.json").read_text())
+    rows = {}
+    for label, row in {**metrics["models"], **metrics.get("baselines", {})}.items():
+        errors = row.get("edp")
+        if not errors:
+            continue
+        rows[label] = {
+            "PFA": errors["PFA"]["median"],
+            "PID": errors["PID"]["median"],
+            "pfa_from": row.get("pfa_from", "-"),
+        }
+    return {"edp": metrics["edp"], "rows": rows}
+
+
+def _physics_tables(name: str, r: dict) -> str:
+    lines = [f"### {name}", ""]
+    lines.append(
+        f"{r['records_kept']} of {r['records_drawn']} records kept (largest peak story drift "
+        f"{100 * r['kept_peak_drift_ratio'][0]:.2f}-{100 * r['kept_peak_drift_ratio'][1]:.2f} %)"
+    )
+    lines += ["", "| physics | pooled rel L2 | per output | target |", "|---|---|---|---|"]
+    for label, value in r["pooled_rel_l2"].items():
+        per = ", ".join(f"{v:.3f}" for v in r["rel_l2_per_output"][label])
+        target = f"<= {r['target']}" if label == "stick" else ""
+        lines.append(f"| {label} | {value:.3f} | {per} | {target} |")
+    c = r["calibration"]
+    lines += ["", f"law chosen: {c['law']}; fit {c['fit_s']:.1f} s", ""]
+    lines += ["| law | fit error per story |", "|---|---|"]
+    for law, errors in c["fit_errors"].items():
+        lines.append(f"| {law} | {', '.join(f'{e:.3f}' for e in errors)} |")
+    lines.append("")
+    lines.append(f"periods (s): structure {np.round(c['periods'], 4).tolist()}, "
+                 f"stick {np.round(c['stick_periods'], 4).tolist()}")  # fmt: skip
+    lines += ["", "| per record | s | timing |", "|---|---|---|"]
+    for label, seconds in r["seconds_per_record"].items():
+        lines.append(f"| {label} | {seconds:.4g} | {r['timing'][label]} |")
+    lines.append(f"\nload average {r['load_average'][0]} before, {r['load_average'][1]} after")
+    return "\n".join(lines)
+
+
+def _surrogate_table(name: str, s: dict) -> str:
+    floors = len(next(iter(s["rows"].values()))["PFA"])
+    stories = len(next(iter(s["rows"].values()))["PID"])
+    head = [f"PFA {i + 1}" for i in range(floors)] + [f"PID {i + 1}" for i in range(stories)]
+    lines = [f"### {name}", "", "| row | " + " | ".join(head) + " | pfa_from |"]
+    lines.append("|---" * (len(head) + 2) + "|")
+    for label, row in s["rows"].items():
+        values = " | ".join(f"{v:.3f}" for v in [*row["PFA"], *row["PID"]])
+        lines.append(f"| {label} | {values} | {row['pfa_from']} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m benchmarks.stick_and_pfa", description=__doc__)
+    parser.add_argument("--records", type=int, default=40, help="records drawn per config")
+    parser.add_argument("--configs", nargs="*", default=list(CONFIGS), choices=CONFIGS)
+    parser.add_argument(
+        "--runs", nargs="*", default=[], metavar="CONFIG=DIR", help="finished runs to read"
+    )
+    parser.add_argument("--json", type=Path, help="write every number here")
+    args = parser.parse_args(argv)
+    print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} on {machine()}\n")
+    found: dict = {"physics": {}, "surrogates": {}}
+    for name in args.configs:
+        found["physics"][name] = physics(name, args.records)
+        print(_physics_tables(name, found["physics"][name]) + "\n", flush=True)
+    for item in args.runs:
+        name, folder = item.split("=", 1)
+        found["surrogates"][name] = surrogates(Path(folder))
+        print(_surrogate_table(name, found["surrogates"][name]) + "\n")
+    if args.json is not None:
+        args.json.write_text(json.dumps(found, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
