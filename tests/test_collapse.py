@@ -49,9 +49,27 @@ class CollapsingStructure(toy_components.StoriedToyStructure):
         return cp.Responses(displacement, responses.dt, collapsed=collapsed, messages=messages)
 
 
+class StallingStructure(toy_components.StoriedToyStructure):
+    """The toy structure whose analysis stops converging at the 30th sample of a record
+    whose peak |a_g| exceeds ``limit``, below any collapse: a non-converged record."""
+
+    name = "toy-stalling"
+
+    class Params(toy_components.StoriedToyStructure.Params):
+        limit: float = 1.0
+
+    def simulate(self, motions, *, dt=None):
+        responses = super().simulate(motions, dt=dt)
+        stalls = np.max(np.abs(motions.acceleration), axis=1) > self.params.limit
+        displacement = responses.displacement.copy()
+        displacement[stalls, 30:] = np.nan
+        stopped = {int(i): "did not converge at t = 0.30 s" for i in np.flatnonzero(stalls)}
+        return cp.Responses(displacement, responses.dt, non_converged=stopped)
+
+
 @cp.hookimpl
 def cphysfno_structures():
-    return [CollapsingStructure]
+    return [CollapsingStructure, StallingStructure]
 
 
 @pytest.fixture
@@ -149,3 +167,54 @@ def test_collapsed_flags_must_be_one_bool_per_record():
     with pytest.raises(cp.InputError, match="one flag per record"):
         cp.Responses(np.zeros((2, 5, 1)), 0.01, collapsed=np.array([True]))
     assert cp.Responses(np.zeros((2, 5, 1)), 0.01).collapsed.tolist() == [False, False]
+
+
+def test_a_record_that_did_not_converge_is_neither_a_failure_nor_a_collapse(
+    registry, tmp_path, capsys
+):
+    source = cp.create("ground_motion", "toy-source", n_steps=60, scale=0.2)
+    peaks = np.max(np.abs(source.sample(15, np.random.default_rng(0)).acceleration), axis=1)
+    limit = float(np.sort(peaks)[-4])  # three records stop converging
+    config = cp.parse_config({**CONFIG, "structure": {"name": "toy-stalling", "limit": limit}})
+    pipeline.run(config, tmp_path / "run")  # the default on_failure = "raise" goes on
+    data = cp.load_dataset(tmp_path / "run" / "dataset.h5")
+    stalled = np.flatnonzero(peaks > limit)
+    assert data.failures == {} and not data.collapsed.any()
+    assert sorted(data.non_converged) == stalled.tolist()
+    assert np.isfinite(data.u[stalled, :30]).all() and np.isnan(data.u[stalled, 30:]).all()
+    kept = np.concatenate([data.rows(s) for s in ("train", "val", "test")])
+    assert sorted(kept.tolist() + stalled.tolist()) == list(range(15))
+    in_test = data.non_converged_rows("test")
+    assert in_test.size > 0  # record 12 of the test split stops converging
+    left_out = json.loads((tmp_path / "run" / "metrics.json").read_text())["left_out"]
+    assert sum(left_out["non_converged"].values()) == 3
+    assert left_out["non_converged"]["test"] == in_test.size
+    assert sum(left_out["collapsed"].values()) == 0
+    report = (tmp_path / "run" / "report.md").read_text()
+    assert "3 did not converge below the collapse (a numerical failure)" in report
+    assert "non-converged records (below the collapse): 3" in describe_file(
+        tmp_path / "run" / "dataset.h5"
+    )
+
+    standing = cp.edp.compute(data.targets("test"), registry.create("structure", "toy-storied"),
+                              data.motions("test"))  # fmt: skip
+    threshold = float(np.median(standing.pid.max(axis=1)))
+    arguments = ["fragility", str(tmp_path / "run"), "--records", "10", "--bootstrap", "5",
+                 "--limit-states", f"pid={threshold:.6g}"]  # fmt: skip
+    documents = {}
+    for choice in ("exclude", "collapse"):
+        out = tmp_path / choice
+        assert main([*arguments, "--non-converged", choice, "--out", str(out)]) == 0
+        documents[choice] = json.loads((out / "fragility.json").read_text())
+    excluded, counted = documents["exclude"], documents["collapse"]
+    assert excluded["non_converged_test_records"] == {"count": int(in_test.size),
+                                                      "treated_as": "left out"}  # fmt: skip
+    assert counted["non_converged_test_records"]["treated_as"] == "collapse"
+    (fit_excluded,), (fit_counted,) = (d["limit_states"].values() for d in (excluded, counted))
+    n_test = data.sizes["test"]
+    assert fit_excluded["simulation"]["n_records"] == n_test - in_test.size
+    assert fit_counted["simulation"]["n_records"] == n_test
+    assert main(["demands", str(tmp_path / "run")]) == 0
+    lines = (tmp_path / "run" / "demands" / "demands.csv").read_text().splitlines()
+    errors = [line.split(",")[-1] for line in lines[2:]]
+    assert errors.count("2") == in_test.size and errors.count("1") == 0

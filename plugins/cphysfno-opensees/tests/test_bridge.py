@@ -88,12 +88,18 @@ def test_modal_reduction_of_the_bridge_is_its_linear_modal_truncation(bridge, re
     assert np.all(np.isfinite(three)) and np.any(relative_l2(three, linear) > 1e-3)
 
 
-def test_a_record_that_does_not_converge_is_a_collapse(record, caplog):
+def test_a_record_that_does_not_converge_below_the_collapse_drift_is_not_a_collapse(record, caplog):
     hopeless = AuburnRavineBridge(tolerance=1e-300)
     motions = GroundMotions(np.vstack([np.zeros(31), record.acceleration[0, :31]]), record.dt)
     with caplog.at_level(logging.INFO, logger="cphysfno_opensees.structure"):
         responses = hopeless.simulate(motions)
-    assert responses.failures == {} and responses.collapsed.tolist() == [False, True]
-    assert "record 1 collapsed the structure: did not converge at t = 0.00 s" in caplog.text
+    assert responses.failures == {} and responses.collapsed.tolist() == [False, False]
+    assert list(responses.non_converged) == [1]
+    assert responses.non_converged[1].startswith("did not converge at t = 0.00 s")
+    assert "at the stop, below collapse_drift = 0.1" in responses.non_converged[1]
+    assert "record 1 did not converge: did not converge at t = 0.00 s" in caplog.text
     assert np.isnan(responses.displacement[1, 1:]).all()
     assert np.array_equal(responses.displacement[0], np.zeros((31, 10)))
+    # without a drift criterion, a record that stops converging is the collapse
+    responses = AuburnRavineBridge(tolerance=1e-300, collapse_drift=None).simulate(motions)
+    assert responses.collapsed.tolist() == [False, True] and responses.non_converged == {}

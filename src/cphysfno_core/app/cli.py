@@ -198,6 +198,7 @@ def _fragility(args: argparse.Namespace) -> int:
         seed=args.seed,
         out=None if args.out is None else Path(args.out),
         config_path=None if args.config is None else Path(args.config),
+        non_converged=args.non_converged,
     )
     im = document["intensity_measure"]
     print(
@@ -404,6 +405,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="intensity measure: sa-t1 (5 %% damped, at the structure's T1), sa:T (at T s, "
         "e.g. sa:1.5), sa-avg (geometric mean from 0.2 T1 to 3 T1), sa-avg:A-B (from A to B "
         "s), pga or pgv; default %(default)s",
+    )
+    fragility.add_argument(
+        "--non-converged",
+        choices=["exclude", "collapse"],
+        default="exclude",
+        help="a test record whose analysis stopped converging below the collapse: left out "
+        "of the simulation curves (exclude, the default) or counted as a collapse",
     )
     fragility.add_argument(
         "--config",

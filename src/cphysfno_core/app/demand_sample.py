@@ -1,8 +1,9 @@
 """``cphysfno demands RUN``: the demand sample of a trained run's surrogate, in the CSV that
 pelicun 3 (FEMA P-58) reads.
 
-The records are the run's test records (collapsed ones flagged from the simulation, which
-pelicun drops) or motions from a file; the demands are the EDPs of the chosen model's
+The records are the run's test records (collapsed ones and those whose analysis did not
+converge below the collapse flagged from the simulation, ``ERROR`` 1 and 2, which pelicun
+drops) or motions from a file; the demands are the EDPs of the chosen model's
 predictions (:mod:`cphysfno_core.reporting.edp`; PFA from the predicted accelerations of a
 model that learns them), written by
 :func:`cphysfno_core.reporting.demands.write_pelicun_demands`.
@@ -45,15 +46,15 @@ def write_demand_sample(
     edp.require_heights(edp.stories_of(structure), "a pelicun demand sample")
     if motions_file is not None:
         motions = read_motions(motions_file)
-        collapsed = np.zeros(motions.n_records, dtype=bool)
+        collapsed = stopped = np.zeros(motions.n_records, dtype=bool)
     else:
         data = load_dataset(run / DATASET)
-        rows = data.rows("test")
-        flagged = data.collapsed_rows("test")
-        everything = np.sort(np.concatenate([rows, flagged]))
+        flagged, unfinished = data.collapsed_rows("test"), data.non_converged_rows("test")
+        everything = np.sort(np.concatenate([data.rows("test"), flagged, unfinished]))
         motions = GroundMotions(data.ag[everything], data.dt)
         collapsed = np.isin(everything, flagged)
-    standing = np.flatnonzero(~collapsed)
+        stopped = np.isin(everything, unfinished)
+    standing = np.flatnonzero(~collapsed & ~stopped)
     predicted = edp.compute(predict_skipping_failures(model, motions[standing])[0], structure,
                             motions[standing])  # fmt: skip
     demands = edp.EDPs(
@@ -63,7 +64,9 @@ def write_demand_sample(
     demands.pfa[:, 0] = np.abs(motions.acceleration).max(axis=1)  # the ground's, every record
     path = out or run / "demands" / "demands.csv"
     path.parent.mkdir(parents=True, exist_ok=True)
-    written = write_pelicun_demands(path, demands.pid, demands.rid, demands.pfa, collapsed)
+    written = write_pelicun_demands(
+        path, demands.pid, demands.rid, demands.pfa, collapsed, non_converged=stopped
+    )
     return written, trained.label
 
 

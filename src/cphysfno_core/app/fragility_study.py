@@ -11,7 +11,9 @@ PGV (:mod:`cphysfno_core.reporting.intensity_measures`).
 
 The demand of a record is the largest over stories of its peak story drift ratio (PID),
 or the largest over floors of its peak absolute floor acceleration (PFA, m/s^2). A record
-that collapsed the structure exceeds every limit state in the simulation curves. The
+that collapsed the structure exceeds every limit state in the simulation curves; one whose
+analysis stopped converging below the collapse is left out of them, or counted as a
+collapse (``non_converged``). The
 surrogate does not predict collapse: its curves combine the probability of collapse,
 fitted against the intensity measure on the simulated records, with the surrogate's
 demands by total probability, ``P(C) + (1 - P(C)) P(exceed | no collapse)``, summarised
@@ -54,6 +56,9 @@ from ..signals.progress import show_progress
 
 DEMANDS = {"pid": "peak story drift ratio (largest over stories)", "pfa": "PFA, m/s^2"}
 """The demands a limit state can be set on."""
+
+NON_CONVERGED = ("exclude", "collapse")
+"""What fragility may make of a record that did not converge below the collapse."""
 
 CHUNK = 500
 """Records predicted at a time for the large analysis (bounded memory)."""
@@ -207,6 +212,7 @@ def run_fragility(
     progress: bool = True,
     out: Path | None = None,
     config_path: Path | None = None,
+    non_converged: str = "exclude",
 ) -> dict[str, Any]:
     """Fit the fragility curves of a trained run and write ``RUN/fragility/`` (or ``out``):
     ``fragility.json``, ``fragility.png``, ``edp-im.png``.
@@ -235,6 +241,10 @@ def run_fragility(
         out: the folder to write to instead of ``RUN/fragility``.
         config_path: a config file to use instead of the run's own ``config.json`` (for
             its structure and ground-motion source).
+        non_converged: what a test record whose analysis stopped converging below the
+            collapse is in the simulation curves: ``"exclude"`` (left out, the default) or
+            ``"collapse"`` (counted as a collapse); ``non_converged_test_records`` says
+            which.
 
     Returns:
         The document written to ``fragility.json``.
@@ -243,6 +253,8 @@ def run_fragility(
         ConfigError: the run is not finished, the model or intensity measure is unknown.
     """
     run = Path(run)
+    if non_converged not in NON_CONVERGED:
+        raise ConfigError(f"--non-converged {non_converged}: use one of {', '.join(NON_CONVERGED)}")
     if not (run / DATASET).is_file():
         raise ConfigError(f"{run} is not a finished run: it has no {DATASET}")
     demands = tuple(dict.fromkeys(state.demand.upper() for state in limit_states))
@@ -261,8 +273,11 @@ def run_fragility(
 
     rows = data._split_rows("test")
     motions = GroundMotions(data.ag[rows], data.dt)
-    collapsed = data.collapsed[rows]
-    standing = ~collapsed & ~np.isin(rows, list(data.failures))
+    stopped = np.isin(rows, list(data.non_converged))
+    collapsed = data.collapsed[rows] | (stopped if non_converged == "collapse" else False)
+    failed = np.isin(rows, list(data.failures))
+    standing = ~collapsed & ~stopped & ~failed
+    counted = ~failed & (~stopped if non_converged == "exclude" else True)
     im_test = im.of(motions)
     truth = edp.compute(data.u[rows], structure, motions)
     kept = motions[np.flatnonzero(standing)]
@@ -275,14 +290,18 @@ def run_fragility(
 
     rng = np.random.default_rng(seed)
     collapse = None
-    if collapsed.any() and not collapsed.all():
-        collapse = fit_lognormal(im_test, collapsed, what="collapse")
+    if collapsed[counted].any() and not collapsed[counted].all():
+        collapse = fit_lognormal(im_test[counted], collapsed[counted], what="collapse")
     document: dict[str, Any] = {
         "run": str(run),
         "model": label,
         "intensity_measure": {**im.to_dict(), "t1_s": t1},
         "test_records": int(rows.size),
-        "collapsed_test_records": int(collapsed.sum()),
+        "collapsed_test_records": int(data.collapsed[rows].sum()),
+        "non_converged_test_records": {
+            "count": int(stopped.sum()),
+            "treated_as": "left out" if non_converged == "exclude" else "collapse",
+        },
         "large_records": int(large.intensity.size),
         "large_seconds": round(large_seconds, 1),
         "large_source_records": large.distinct,
@@ -309,7 +328,9 @@ def run_fragility(
     for state in limit_states:
         what = f"{state.name} ({measure})"
         simulated = np.where(collapsed, True, demand_values(truth, state.demand) > state.threshold)
-        simulation = _fit_or_note(im_test, simulated, rng, n_bootstrap, what + ", simulation")
+        simulation = _fit_or_note(
+            im_test[counted], simulated[counted], rng, n_bootstrap, what + ", simulation"
+        )
         surrogate = _surrogate_fit(
             im_test[standing][predicted_ok],
             demand_values(predicted, state.demand)[predicted_ok] > state.threshold,

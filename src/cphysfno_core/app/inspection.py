@@ -39,7 +39,14 @@ def _describe_dataset(path: Path, f: h5py.File, records: int) -> str:
             lines.append(f"  {key}: {f.attrs[key]}")
     failures = json.loads(f.attrs.get("failures", "{}"))
     collapsed = int(f["collapsed"][...].sum()) if "collapsed" in f else 0
-    lines += [f"  failed records: {len(failures)}", f"  collapsed records: {collapsed}", ""]
+    stopped = json.loads(f.attrs.get("non_converged", "{}"))
+    lines += [
+        f"  failed records: {len(failures)}",
+        f"  collapsed records: {collapsed}",
+        f"  non-converged records (below the collapse): {len(stopped)}",
+        *(f"    record {index}: {cause}" for index, cause in list(stopped.items())[:5]),
+        "",
+    ]
     arrays: list[tuple[str, h5py.Dataset]] = []
     f.visititems(
         lambda name, item: arrays.append((name, item)) if isinstance(item, h5py.Dataset) else None

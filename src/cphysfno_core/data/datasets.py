@@ -3,8 +3,8 @@
 File layout: ``ag [N, T]`` (m/s^2), ``u [N, T, n_out]`` (m), ``z/<preprocessor>
 [N, T, n_out]`` (m), ``extras/<channel> [N, T, k]`` (float32, for figures); attributes
 ``dt``, ``config`` (JSON), ``config_hash``, ``seed``, ``versions``, ``output_names``,
-``n_train``, ``n_val``, ``n_test``, ``failures`` (JSON: record index -> cause) and
-``complete``. :mod:`cphysfno_core.generation` writes it.
+``n_train``, ``n_val``, ``n_test``, ``failures`` and ``non_converged`` (JSON: record
+index -> cause) and ``complete``. :mod:`cphysfno_core.generation` writes it.
 """
 
 from __future__ import annotations
@@ -46,6 +46,9 @@ class Dataset:
         collapsed: ``[N]`` whether each record collapsed the structure; collapsed records
             are left out of :meth:`rows` (training, error tables) and listed by
             :meth:`collapsed_rows`. ``None`` (older files) means none did.
+        non_converged: record index -> cause, for records whose analysis stopped
+            converging below the collapse (a numerical failure): kept to the stop, left
+            out of :meth:`rows`, listed by :meth:`non_converged_rows`.
     """
 
     ag: np.ndarray
@@ -58,6 +61,7 @@ class Dataset:
     failures: dict[int, str] = field(default_factory=dict)
     provenance: tuple[dict, ...] = ()
     collapsed: np.ndarray | None = None
+    non_converged: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
@@ -74,21 +78,30 @@ class Dataset:
         rows = self._split_rows(split)
         return rows[self.collapsed[rows]]
 
+    def non_converged_rows(self, split: str) -> np.ndarray:
+        """The record indices of ``split`` whose analysis stopped converging below the
+        collapse."""
+        rows = self._split_rows(split)
+        return rows[np.isin(rows, list(self.non_converged))]
+
     def left_out(self) -> dict[str, dict[str, int]]:
-        """How many records of each split collapsed the structure and how many failed
-        (``{"collapsed": {"train": 2, "val": 0, "test": 1}, "failed": {...}}``): the records
-        that training and the error tables leave out."""
-        failed = np.zeros(self.u.shape[0], dtype=bool)
-        failed[list(self.failures)] = True
+        """How many records of each split collapsed the structure, how many did not
+        converge below the collapse and how many failed (``{"collapsed": {"train": 2,
+        "val": 0, "test": 1}, "non_converged": {...}, "failed": {...}}``): the records that
+        training and the error tables leave out."""
+        flags = {}
+        for name, indices in (("non_converged", self.non_converged), ("failed", self.failures)):
+            flags[name] = np.zeros(self.u.shape[0], dtype=bool)
+            flags[name][list(indices)] = True
         return {
-            name: {split: int(flags[self._split_rows(split)].sum()) for split in SPLITS}
-            for name, flags in (("collapsed", self.collapsed), ("failed", failed))
+            name: {split: int(values[self._split_rows(split)].sum()) for split in SPLITS}
+            for name, values in (("collapsed", self.collapsed), *flags.items())
         }
 
     def rows(self, split: str) -> np.ndarray:
-        """The record indices of ``split`` (``train``, ``val`` or ``test``), failed and
-        collapsed records left out; DatasetError if every record of the split failed or
-        collapsed."""
+        """The record indices of ``split`` (``train``, ``val`` or ``test``), failed,
+        collapsed and non-converged records left out; DatasetError if every record of the
+        split is one of those."""
         rows = self._split_rows(split)
         collapsed = self.collapsed[rows]
         if collapsed.all() and rows.size:
@@ -97,6 +110,15 @@ class Dataset:
                 "structure: scale the ground motions down for a surrogate of its response"
             )
         failed = np.isin(rows, list(self.failures))
+        stopped = np.isin(rows, list(self.non_converged))
+        if (collapsed | stopped).all() and rows.size:
+            first = int(rows[stopped][0])
+            raise DatasetError(
+                f"every one of the {rows.size} records of the {split} split collapsed the "
+                f"structure or did not converge (record {first}: {self.non_converged[first]}): "
+                "make the model's analysis more robust, or scale the ground motions down"
+            )
+        collapsed = collapsed | stopped
         if (failed | collapsed).all() and rows.size:
             first = int(rows[failed][0])
             raise DatasetError(
@@ -267,6 +289,9 @@ def load_dataset(path: str | Path) -> Dataset:
                 output_names=tuple(json.loads(f.attrs["output_names"])),
                 sizes={s: int(f.attrs[f"n_{s}"]) for s in SPLITS},
                 failures={int(k): v for k, v in json.loads(f.attrs.get("failures", "{}")).items()},
+                non_converged={
+                    int(k): v for k, v in json.loads(f.attrs.get("non_converged", "{}")).items()
+                },
                 provenance=read_provenance(f),
                 collapsed=f["collapsed"][...] if "collapsed" in f else None,
             )

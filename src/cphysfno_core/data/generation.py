@@ -329,11 +329,19 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
                 f"  records {', '.join(str(start + int(k)) for k in collapsed)} collapsed the "
                 "structure (kept, flagged, left out of training)"
             )
+        stopped = {start + k: cause for k, cause in result.non_converged.items()}
+        for index, cause in stopped.items():
+            if progress:
+                show_progress(
+                    f"  record {index} did not converge, below the collapse (kept to the "
+                    f"stop, listed, left out of training): {cause}"
+                )
         arrays = {
             "u": result.u,
             "collapsed": result.collapsed,
             "failures": np.array(json.dumps(failures)),
             "messages": np.array(json.dumps(messages)),
+            "non_converged": np.array(json.dumps(stopped)),
         }
         arrays.update({f"z/{name}": values for name, values in result.z.items()})
         arrays.update({f"extras/{name}": values for name, values in result.extras.items()})
@@ -357,6 +365,7 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> dict
 
     def write(temporary: Path) -> None:
         failures: dict[str, str] = {}
+        stopped: dict[str, str] = {}
         with h5py.File(temporary, "w") as f:
             f.attrs["config_hash"] = identity
             f.attrs["config"] = json.dumps(config.to_dict())
@@ -382,6 +391,9 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> dict
                         if key == "failures":
                             failures.update(json.loads(str(chunk[key])))
                             continue
+                        if key == "non_converged":
+                            stopped.update(json.loads(str(chunk[key])))
+                            continue
                         if key == "messages":
                             said = json.loads(str(chunk[key]))
                             messages.update({int(i): text for i, text in said.items()})
@@ -391,6 +403,7 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> dict
                             f.create_dataset(key, shape=(shape[0], *values.shape[1:]), dtype="f4")
                         f[key][start:stop] = values
             f.attrs["failures"] = json.dumps(failures)
+            f.attrs["non_converged"] = json.dumps(stopped)
             describe_arrays(f, list(structure.output_names))
             f.attrs["complete"] = True
 

@@ -26,6 +26,9 @@ class ChunkResult:
         collapsed: ``[n]`` whether each record collapsed the structure (its truth holds NaN
             after the collapse; not a failure).
         messages: index within the chunk -> what the simulator printed for that record.
+        non_converged: index within the chunk -> cause, for the records whose analysis
+            stopped converging below the collapse (their truth holds NaN after the stop;
+            not a failure, not a collapse).
     """
 
     u: np.ndarray
@@ -34,6 +37,7 @@ class ChunkResult:
     failures: dict[int, str] = field(default_factory=dict)
     collapsed: np.ndarray | None = None
     messages: dict[int, str] = field(default_factory=dict)
+    non_converged: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
@@ -75,6 +79,7 @@ class _Parts:
             dict(responses.failures),
             responses.collapsed,
             dict(responses.messages),
+            dict(responses.non_converged),
         )
         for i in result.failures:
             _blank(result, i)
@@ -92,9 +97,12 @@ def _check_shape(values: Any, shape: tuple, entry: Any, what: str) -> None:
 
 def _non_finite_causes(result: ChunkResult) -> dict[int, str]:
     """Record index -> what holds NaN or Inf, for the records with any non-finite output.
-    A collapsed record is left out of everything: its truth ends in NaN by design, and
-    its physics responses (a coarse model of it may collapse too) are not checked."""
+    A collapsed or non-converged record is left out of everything: its truth ends in NaN
+    by design, and its physics responses (a coarse model of it may collapse too) are not
+    checked."""
     causes: dict[int, str] = {}
+    ended = result.collapsed.copy()
+    ended[list(result.non_converged)] = True
     outputs = [("the response (the simulation diverged)", result.u)]
     outputs += [
         (f"the '{name}' physics response (its simulation failed or diverged)", values)
@@ -102,7 +110,7 @@ def _non_finite_causes(result: ChunkResult) -> dict[int, str]:
     ]
     for what, values in outputs:
         finite = np.isfinite(values).all(axis=tuple(range(1, values.ndim)))
-        for i in np.flatnonzero(~finite & ~result.collapsed):
+        for i in np.flatnonzero(~finite & ~ended):
             causes.setdefault(int(i), f"NaN or Inf in {what}")
     return causes
 
@@ -168,12 +176,13 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
             continue
         results.append(single)
     collapsed = np.array([r is not None and bool(r.collapsed[0]) for r in results])
+    stopped = {i: r.non_converged[0] for i, r in enumerate(results) if r and r.non_converged}
     template = next((r for r in results if r is not None), None)
     if template is None:
         shape = (motions.n_records, motions.n_steps, parts.structure.n_outputs)
         nan = np.full(shape, np.nan)
         z = {name: nan.copy() for name in parts.preprocessors}
-        return ChunkResult(nan, {}, z, failures, collapsed, messages)
+        return ChunkResult(nan, {}, z, failures, collapsed, messages, stopped)
 
     def stack(pick) -> np.ndarray:
         rows = [pick(r) if r is not None else np.full_like(pick(template), np.nan) for r in results]
@@ -186,4 +195,5 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
         failures,
         collapsed,
         messages,
+        stopped,
     )

@@ -152,14 +152,17 @@ def write_pelicun_demands(
     *,
     pfa_unit: Literal["g", "mps2"] = "g",
     collapsed_rows: Literal["error", "omit"] = "error",
+    non_converged: np.ndarray | None = None,
 ) -> PelicunDemands:
     """Write engineering demand parameters as a pelicun 3 demand sample (CSV).
 
     The file has a header row, a ``Units`` row, and one row per record labelled with the
     record's index in the arrays. Its columns are ``1-PID-s-1`` and ``1-RID-s-1`` for
     stories ``s = 1 .. n_stories`` (``unitless``), ``1-PFA-k-1`` for floor levels
-    ``k = 0 .. n_floors`` (0 the ground) in ``pfa_unit``, and, with ``collapsed`` and
-    ``collapsed_rows="error"``, ``1-ERROR--`` (1 for a collapsed record, else 0). Values
+    ``k = 0 .. n_floors`` (0 the ground) in ``pfa_unit``, and, with ``collapsed`` (or
+    ``non_converged``) and ``collapsed_rows="error"``, ``1-ERROR--`` (1 for a collapsed
+    record, 2 for one whose analysis did not converge below the collapse, else 0; pelicun
+    leaves out every nonzero one). Values
     are written with Python's shortest round-trip ``repr``; a collapsed record's values
     that are not finite are left empty. The file replaces ``path`` in one step. See the
     module's documentation for how pelicun reads it, and why collapse is written so.
@@ -182,8 +185,12 @@ def write_pelicun_demands(
             are divided by 9.80665) or ``"mps2"`` (m/s^2 as given). pelicun converts
             either to m/s^2 when it reads the file.
         collapsed_rows: ``"error"`` (the default) writes collapsed records with
-            ``ERROR`` = 1, which pelicun's ``load_sample`` drops; ``"omit"`` leaves them
-            out of the file (the remaining rows keep their record indices).
+            ``ERROR`` = 1 (non-converged ones with 2), which pelicun's ``load_sample``
+            drops; ``"omit"`` leaves them out of the file (the remaining rows keep their
+            record indices).
+        non_converged: ``[n_records]`` booleans, True for a record whose analysis stopped
+            converging below the collapse (a numerical failure, not a collapse: not in the
+            collapse fraction); None when none did.
 
     Returns:
         What was written, with the number of collapsed records.
@@ -233,14 +240,17 @@ def write_pelicun_demands(
             f"be [{n_records}, 1 + n_floors]: the ground (column 0), then the floors bottom up"
         )
     blocks.append(("PFA", pfa, range(pfa.shape[1]), pfa_unit, PFA_UNITS[pfa_unit]))
-    fell = _collapsed(collapsed, n_records)
+    fell = _flags(collapsed, n_records, "collapsed")
+    stopped = _flags(non_converged, n_records, "non_converged")
+    error = np.where(fell, 1, np.where(stopped, 2, 0))
 
     for name, values, _, _, _ in blocks:
-        _check_values(name.lower(), values, fell)
+        _check_values(name.lower(), values, error > 0)
     n_collapsed = int(fell.sum())
-    if n_collapsed == n_records:
+    if (error > 0).all():
         raise InputError(
-            f"pelicun demand sample: all {n_records} records collapsed, so there is no "
+            f"pelicun demand sample: all {n_records} records collapsed (or did not "
+            "converge), so there is no "
             "demand of a standing structure for pelicun to sample: give pelicun the "
             "collapse through its collapse fragility (collapse fraction 1) instead"
         )
@@ -252,8 +262,8 @@ def write_pelicun_demands(
     ]
     units = [unit for _, values, _, unit, _ in blocks for _ in range(values.shape[1])]
     table = np.concatenate([values / per_unit for _, values, _, _, per_unit in blocks], axis=1)
-    flag = collapsed is not None and collapsed_rows == "error"
-    rows = [r for r in range(n_records) if collapsed_rows == "error" or not fell[r]]
+    flag = (collapsed is not None or non_converged is not None) and collapsed_rows == "error"
+    rows = [r for r in range(n_records) if collapsed_rows == "error" or not error[r]]
 
     temporary = path.with_name(f".{path.name}.tmp")
     try:
@@ -263,7 +273,7 @@ def write_pelicun_demands(
             writer.writerow(["Units", *units, *([""] if flag else [])])
             for r in rows:
                 cells = [repr(float(v)) if np.isfinite(v) else "" for v in table[r]]
-                writer.writerow([str(r), *cells, *([str(int(fell[r]))] if flag else [])])
+                writer.writerow([str(r), *cells, *([str(int(error[r]))] if flag else [])])
         os.replace(temporary, path)
     finally:
         temporary.unlink(missing_ok=True)
@@ -280,21 +290,21 @@ def _as_table(values: np.ndarray, name: str) -> np.ndarray:
     return table
 
 
-def _collapsed(collapsed: np.ndarray | None, n_records: int) -> np.ndarray:
-    if collapsed is None:
+def _flags(flags: np.ndarray | None, n_records: int, name: str) -> np.ndarray:
+    if flags is None:
         return np.zeros(n_records, dtype=bool)
-    fell = np.asarray(collapsed)
-    if fell.dtype != np.bool_:
+    found = np.asarray(flags)
+    if found.dtype != np.bool_:
         raise InputError(
-            f"pelicun demand sample: collapsed has dtype {fell.dtype}; it must be boolean, "
-            "True for a collapsed record"
+            f"pelicun demand sample: {name} has dtype {found.dtype}; it must be boolean, "
+            "True for a record that is so"
         )
-    if fell.shape != (n_records,):
+    if found.shape != (n_records,):
         raise InputError(
-            f"pelicun demand sample: collapsed has shape {fell.shape}; it must be "
+            f"pelicun demand sample: {name} has shape {found.shape}; it must be "
             f"({n_records},), one value per record"
         )
-    return fell
+    return found
 
 
 def _check_values(name: str, values: np.ndarray, fell: np.ndarray) -> None:

@@ -413,10 +413,15 @@ def _edp_table(models: dict[str, dict], key: str, names: list[str]) -> list[str]
 
 
 def _left_out_line(left_out: dict[str, dict[str, int]]) -> list[str]:
-    """The report's line on the records left out (collapsed, failed), if there are any."""
+    """The report's line on the records left out (collapsed, non-converged, failed), if
+    there are any."""
     parts = []
-    for name, what in (("collapsed", "collapsed the structure"), ("failed", "failed")):
-        counts = left_out[name]
+    for name, what in (
+        ("collapsed", "collapsed the structure"),
+        ("non_converged", "did not converge below the collapse (a numerical failure)"),
+        ("failed", "failed"),
+    ):
+        counts = left_out.get(name, {})
         if sum(counts.values()):
             labels = {"train": "train", "val": "validation", "test": "test"}
             split = " / ".join(f"{counts[s]} {labels[s]}" for s in SPLITS)

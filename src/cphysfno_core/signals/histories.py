@@ -183,6 +183,12 @@ class Responses:
             (its warnings), for the records it printed anything for; data generation
             shows each distinct message once with its count and keeps them in full in a
             log.
+        non_converged: record index -> why, for the records whose analysis stopped
+            converging before the structure collapsed (below its collapse drift): a
+            numerical failure, not a collapse. Their rows hold the history up to the stop
+            and NaN after it; they are not ``collapsed``, datasets keep them listed,
+            training and error tables leave them out, and fragility treats them as the
+            user chooses.
     """
 
     displacement: np.ndarray
@@ -191,6 +197,7 @@ class Responses:
     failures: Mapping[int, str] = field(default_factory=dict)
     collapsed: np.ndarray | None = None
     messages: Mapping[int, str] = field(default_factory=dict)
+    non_converged: Mapping[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         u = np.asarray(self.displacement, dtype=np.float64)
@@ -211,6 +218,11 @@ class Responses:
         if outside:
             raise InputError(f"messages name records {outside} outside 0..{u.shape[0] - 1}")
         object.__setattr__(self, "messages", messages)
+        stopped = {int(i): str(why) for i, why in dict(self.non_converged).items()}
+        outside = [i for i in stopped if not 0 <= i < u.shape[0]]
+        if outside:
+            raise InputError(f"non_converged names records {outside} outside 0..{u.shape[0] - 1}")
+        object.__setattr__(self, "non_converged", stopped)
         if self.collapsed is None:
             collapsed = np.zeros(u.shape[0], dtype=bool)
         else:

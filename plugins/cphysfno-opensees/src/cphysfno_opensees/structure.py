@@ -51,11 +51,12 @@ class OpenSeesStructure(Structure):
 
     - :meth:`simulate`: every record analysed in worker processes
       (:func:`~cphysfno_opensees.runner.run_records`, ``workers`` at a time, each worker
-      replaced after ``records_per_worker`` records); a record whose analysis stops
-      converging, or (structures with stories) in which a story drifts past
-      ``collapse_drift``, collapsed the structure (``Responses.collapsed``), and one whose
-      worker dies comes back as NaN rows named in ``Responses.failures``; what OpenSees
-      printed comes back in ``Responses.messages``;
+      replaced after ``records_per_worker`` records); a record in which a story drifts
+      past ``collapse_drift`` collapsed the structure (``Responses.collapsed``), one whose
+      analysis stops converging below it did not converge (``Responses.non_converged``;
+      a collapse where there is no drift criterion), and one whose worker dies comes back
+      as NaN rows named in ``Responses.failures``; what OpenSees printed comes back in
+      ``Responses.messages``;
     - the ``coarse_simulation`` capability: ``simulate(motions, dt=coarse)`` resamples the
       motion onto the coarse grid (linear between samples) and analyses it there, which
       the subclass's implicit, unconditionally stable integrator must allow;
@@ -97,11 +98,15 @@ class OpenSeesStructure(Structure):
             structure whose analysis records accelerations (:meth:`ground_influence`) the
             absolute accelerations of the outputs as the extra ``absolute_acceleration``
             (``[n, T', n_outputs]``, m/s^2: OpenSees' relative ``nodeAccel`` plus the
-            ground's share, NaN where the displacement is). A collapsed
-            record (``collapsed``: its analysis stopped converging, or a story's drift
-            ratio passed ``collapse_drift``) holds its history up to the collapse (the
-            last converged step, or the first sample past the limit) and NaN after it; its
-            cause is logged (logger ``cphysfno_opensees.structure``, INFO) with the
+            ground's share, NaN where the displacement is). Each record has one of three
+            outcomes. *Complete*. *Collapsed* (``collapsed``): a story's drift ratio passed
+            ``collapse_drift`` (its history up to the first sample past the limit, NaN
+            after), or, for a structure without that criterion (``collapse_drift`` None,
+            stories without heights), its analysis stopped converging. *Non-converged*
+            (``non_converged``, with the cause and the peak story drift ratio at the stop):
+            its analysis stopped converging below the collapse drift, a numerical failure
+            rather than a collapse (its history up to the last converged step, NaN after).
+            Causes are logged (logger ``cphysfno_opensees.structure``, INFO) with the
             record's metadata, where the motions have some: ``did not converge at t =
             7.31 s after ... (rsn = 953, scale = 1.4)``. A record whose worker died is NaN
             throughout and named in ``failures``. ``messages`` holds what OpenSees printed
@@ -138,10 +143,26 @@ class OpenSeesStructure(Structure):
             records_per_worker=self.params.records_per_worker,
             description=f"{self.name} at dt = {motions.dt:g} s",
         )
-        recorded[moving], collapsed[moving] = runs.displacement, runs.collapsed
+        recorded[moving] = runs.displacement
         u = recorded[:, :, : self.n_outputs]
-        causes = {int(moving[i]): cause for i, cause in runs.collapse_causes.items()}
-        causes.update(self._drift_collapses(u, collapsed, motions.dt))
+        stopped = {int(moving[i]): cause for i, cause in runs.collapse_causes.items()}
+        causes = self._drift_collapses(u, collapsed, motions.dt)
+        by_drift = causes is not None
+        causes = causes or {}
+        non_converged = {}
+        for index, cause in stopped.items():
+            if collapsed[index]:
+                continue  # past the collapse drift before the analysis stopped
+            if not by_drift:  # no drift criterion: a stop is the collapse
+                collapsed[index], causes[index] = True, cause
+                continue
+            peak = self._peak_drift_ratio(u[index])
+            non_converged[index] = _with_metadata(
+                f"{cause}; peak story drift ratio {peak:.3g} at the stop, below "
+                f"collapse_drift = {self.params.collapse_drift:g}",
+                motions.metadata,
+                index,
+            )
         extras = {}
         if influence is not None:
             relative = recorded[:, :, self.n_outputs :]
@@ -150,6 +171,8 @@ class OpenSeesStructure(Structure):
         for index, cause in sorted(causes.items()):
             described = _with_metadata(cause, motions.metadata, index)
             logger.info("%s: record %d collapsed the structure: %s", self.name, index, described)
+        for index, cause in sorted(non_converged.items()):
+            logger.info("%s: record %d did not converge: %s", self.name, index, cause)
         failures = {
             int(moving[i]): _with_metadata(cause, motions.metadata, int(moving[i]))
             for i, cause in runs.failures.items()
@@ -162,34 +185,52 @@ class OpenSeesStructure(Structure):
             failures=failures,
             collapsed=collapsed,
             messages=messages,
+            non_converged=non_converged,
         )
 
-    def _drift_collapses(self, u: np.ndarray, collapsed: np.ndarray, dt: float) -> dict[int, str]:
+    def _drift_collapses(
+        self, u: np.ndarray, collapsed: np.ndarray, dt: float
+    ) -> dict[int, str] | None:
         """Mark the records in which a story drifts past ``collapse_drift`` as collapsed
         (in place: NaN after the first sample past it, also in a record whose analysis
-        stopped converging later); the causes of those not marked before, by record. A model
-        whose stories cannot be told (one without a vertical coordinate and without
-        ``story_heights``) collapses only by non-convergence, and a warning says so."""
+        stopped converging later); their causes, by record. None where there is no drift
+        criterion (``collapse_drift`` None, or stories without heights or that cannot be
+        told, which a warning says): a record then collapses only by non-convergence."""
         limit = self.params.collapse_drift
         if limit is None or "stories" not in self.capabilities:
-            return {}
+            return None
         try:
             stories = self.stories()
         except ConfigError as error:
             logger.warning("%s: no collapse by drift (%s)", self.name, error)
-            return {}
+            return None
+        if not stories.has_heights:
+            logger.warning(
+                "%s: no collapse by drift (%s have no height)",
+                self.name,
+                ", ".join(stories.without_height()),
+            )
+            return None
         first = stories.first_past(np.nan_to_num(u, nan=0.0), limit)
         causes = {}
         for index in np.flatnonzero(first >= 0):
             step = int(first[index])
             u[index, step + 1 :] = np.nan
-            if not collapsed[index]:
-                collapsed[index] = True
-                causes[int(index)] = (
-                    f"a story drift ratio passed collapse_drift = {limit:g} at t = "
-                    f"{step * dt:.2f} s"
-                )
+            collapsed[index] = True
+            causes[int(index)] = (
+                f"a story drift ratio passed collapse_drift = {limit:g} at t = {step * dt:.2f} s"
+            )
         return causes
+
+    def _peak_drift_ratio(self, u: np.ndarray) -> float:
+        """The largest story drift ratio of one record's ``[T, n_outputs]`` history (m)
+        before it ends in NaN."""
+        kept = u[np.all(np.isfinite(u), axis=1)]
+        if kept.size == 0:
+            return 0.0
+        stories = self.stories()
+        drift = stories.drifts(kept[None])[0]
+        return float(np.max(np.abs(drift) / np.asarray(stories.heights_m)))
 
     def periods(self, n: int | None = None) -> np.ndarray:
         """First ``n`` (default all) elastic periods in s, longest first, from the
