@@ -24,8 +24,10 @@ from cphysfno_opensees.sac9.elastic import (
 from cphysfno_opensees.sac9.model import FrameConfig, build_frame
 from cphysfno_opensees.sac9.phases import ELASTIC_SHARE, elastic_start
 from cphysfno_opensees.sac9.sections import HARDENING_RATIO, STEEL_MODULUS
+from cphysfno_opensees.sac9.structure import Sac9Frame
 from sac9_pulses import DAMPING, DT, pulse, relative
 
+import cphysfno_core as cp
 from cphysfno_core import Rayleigh
 
 MODEL = FrameConfig()
@@ -161,3 +163,21 @@ def test_steel_stays_elastic_within_the_range_around_its_centre():
 def test_only_the_fibre_model_condenses():
     with pytest.raises(ValueError, match="fibre model"):
         elastic_frame(dataclasses.replace(MODEL, model="hinges"), Rayleigh(0.1, 0.01))
+
+
+@pytest.mark.parametrize("model", ["fibre", "hinges"])
+def test_the_frames_own_linear_system_has_its_opensees_periods(model):
+    """The exact linear system (the model condensed to its floors, with the P-Delta of its
+    weight) against OpenSees' eigen analysis; the paper's equivalent system (the pushover
+    shear building) is another one."""
+    frame = Sac9Frame(model=model)
+    system = frame.linear_system()
+    squares = np.sort(np.linalg.eigvals(np.linalg.solve(system.mass, system.stiffness)).real)
+    np.testing.assert_allclose(2 * np.pi / np.sqrt(squares), frame.periods(), rtol=1e-6)
+    if model == "fibre":
+        np.testing.assert_allclose(system.stiffness, elastic_frame(MODEL, DAMPING).stiffness)
+    exact = cp.create("preprocessor", "els-exact").fit(frame)
+    np.testing.assert_array_equal(exact.system_.stiffness, system.stiffness)
+    paper = cp.create("preprocessor", "els").fit(frame)  # the pushover's shear building
+    assert np.allclose(paper.system_.stiffness, frame.equivalent_linear_system().stiffness)
+    assert not np.allclose(paper.system_.stiffness, system.stiffness, rtol=0.05)

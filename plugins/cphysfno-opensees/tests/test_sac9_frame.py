@@ -105,10 +105,12 @@ def test_a_coarse_step_shorter_than_the_motion_is_refused(frame):
         frame.simulate(small_motions(), dt=0.001)
 
 
-def test_modal_reduction_fails_at_fit_naming_what_is_missing(frame):
-    modal = cp.create("preprocessor", "modal")
-    with pytest.raises(cp.CapabilityError, match="modal.*linear_system"):
-        modal.fit(frame)
+def test_modal_reduction_of_the_frame_is_the_linear_modal_truncation_of_its_own_system(frame):
+    """The frame has no restoring force to project: modal on all nine modes is els-exact."""
+    motions = small_motions(n_records=1, n_steps=201, dt=0.01, peak=0.5)
+    full = cp.create("preprocessor", "modal", modes=9).fit(frame).transform(motions)
+    exact = cp.create("preprocessor", "els-exact").fit(frame).transform(motions)
+    assert np.all(relative_l2(full, exact) < 1e-8)
 
 
 def test_equivalent_linear_system_is_the_pushover_shear_building(frame):
@@ -118,7 +120,7 @@ def test_equivalent_linear_system_is_the_pushover_shear_building(frame):
     assert np.allclose(np.diag(system.mass), frame.pushover().masses)
     squares = np.linalg.eigvals(np.linalg.solve(system.mass, system.stiffness))
     first = 2.0 * np.pi / np.sqrt(np.sort(squares.real)[0])
-    assert first == pytest.approx(frame.loaded_periods(1)[0], rel=0.02)
+    assert first == pytest.approx(frame.periods(1)[0], rel=0.02)
 
 
 def test_pushover_goes_well_past_yield_and_is_computed_once(frame):
@@ -153,9 +155,14 @@ def test_els_by_name_is_close_to_the_frame_at_small_amplitude(frame):
     assert error.max() < 0.2
 
 
-def test_the_frame_has_no_exact_linear_system_of_its_own(frame):
-    """Its linear system is an equivalent one (the pushover's shear building), which ELS
-    uses; what needs the frame's own linear system is refused with the reason."""
-    assert frame.capabilities == {"equivalent_linear_system", "coarse_simulation", "stories"}
-    with pytest.raises(cp.CapabilityError, match="linear_system.*equivalent_linear_system"):
-        frame.linear_system()
+def test_the_frame_has_its_own_linear_system_and_the_papers_equivalent_one(frame):
+    """ELS uses the equivalent one (the pushover's shear building), els-exact the frame's."""
+    assert frame.capabilities == {
+        "linear_system",
+        "equivalent_linear_system",
+        "coarse_simulation",
+        "stories",
+    }
+    own, paper = frame.linear_system(), frame.equivalent_linear_system()
+    assert not np.allclose(own.stiffness, paper.stiffness, rtol=0.05)
+    np.testing.assert_allclose(np.diag(own.mass), np.diag(paper.mass), rtol=1e-9)

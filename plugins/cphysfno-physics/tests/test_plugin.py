@@ -26,9 +26,11 @@ def test_registry_creates_each_by_name(name):
     assert component.name == name
 
 
-def test_entry_point_module_registers_the_five():
+def test_entry_point_module_registers_the_six():
     registry = Registry(autoload=False, plugins=("cphysfno_physics.plugin",))
-    assert registry.names("preprocessor") == ["els", "els-secant", "modal", "relaxed", "stick"]
+    names = ["els", "els-exact", "els-secant", "modal", "relaxed", "stick"]
+    assert registry.names("preprocessor") == names
+    assert registry.create("preprocessor", "els-exact").params.system == "exact"
     assert registry.create("preprocessor", "els-secant").params.stiffness == "secant"
     assert registry.get("preprocessor", "stick") is Stick
     assert registry.broken == []

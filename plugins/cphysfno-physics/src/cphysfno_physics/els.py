@@ -63,6 +63,12 @@ class EquivalentLinear(PhysicsPreprocessor):
         stiffness_scale: float = Field(
             1.0, gt=0.0, description="factor s on the elastic stiffness: K_eq = s K"
         )
+        system: Literal["equivalent", "exact"] = Field(
+            "equivalent",
+            description="'equivalent': the structure's equivalent linear system (its own "
+            "linear system unless it defines another, e.g. the paper's pushover shear "
+            "building of a frame); 'exact': its own linear system",
+        )
         stiffness: Literal["initial", "secant"] = Field(
             "initial",
             description="'initial': K_eq = s K for every record; 'secant': each record's "
@@ -83,7 +89,8 @@ class EquivalentLinear(PhysicsPreprocessor):
 
     def fit(self, structure: Structure) -> EquivalentLinear:
         """Take M, C and s K from the structure's equivalent linear system (its
-        ``linear_system`` where it has one); with ``stiffness = "secant"`` also push it.
+        ``linear_system`` where it has one; with ``system = "exact"`` its
+        ``linear_system``); with ``stiffness = "secant"`` also push it.
 
         Raises:
             CapabilityError: ``secant`` for a structure without ``pushover`` or ``stories``.
@@ -91,7 +98,11 @@ class EquivalentLinear(PhysicsPreprocessor):
                 the other (no roof to read).
         """
         self.check(structure)
-        system = structure.equivalent_linear_system()
+        if self.params.system == "exact":
+            structure.require("linear_system", "preprocessor 'els' with system = 'exact'")
+            system = structure.linear_system()
+        else:
+            system = structure.equivalent_linear_system()
         scale = self.params.stiffness_scale
         self.system_ = dataclasses.replace(system, stiffness=scale * system.stiffness)
         if self.params.stiffness == "secant":
@@ -165,6 +176,20 @@ class SecantEquivalentLinear(EquivalentLinear):
     class Params(EquivalentLinear.Params):
         stiffness: Literal["initial", "secant"] = Field(
             "secant", description="as for els, secant by default"
+        )
+
+
+class ExactEquivalentLinear(EquivalentLinear):
+    """``els`` on the structure's own linear system by default (``system = "exact"``): its
+    own name, so that a run can compare it with the ``els`` of a structure whose
+    equivalent linear system is another (the SAC frame's pushover shear building)."""
+
+    name = "els-exact"
+    requires = frozenset({"linear_system"})
+
+    class Params(EquivalentLinear.Params):
+        system: Literal["equivalent", "exact"] = Field(
+            "exact", description="as for els, exact by default"
         )
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import cphysfno_core
 
-from .els import EquivalentLinear, SecantEquivalentLinear
+from .els import EquivalentLinear, ExactEquivalentLinear, SecantEquivalentLinear
 from .modal import ModalReduction
 from .relaxed import RelaxedSolver
 from .stick import Stick
@@ -12,6 +12,13 @@ from .stick import Stick
 
 @cphysfno_core.hookimpl
 def cphysfno_preprocessors() -> list[type]:
-    """The physics preprocessors ``els``, ``els-secant``, ``modal``, ``relaxed`` and
-    ``stick``."""
-    return [EquivalentLinear, SecantEquivalentLinear, ModalReduction, RelaxedSolver, Stick]
+    """The physics preprocessors ``els``, ``els-exact``, ``els-secant``, ``modal``,
+    ``relaxed`` and ``stick``."""
+    return [
+        EquivalentLinear,
+        ExactEquivalentLinear,
+        SecantEquivalentLinear,
+        ModalReduction,
+        RelaxedSolver,
+        Stick,
+    ]

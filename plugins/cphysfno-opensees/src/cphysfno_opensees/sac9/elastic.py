@@ -87,15 +87,10 @@ def elastic_frame(config: FrameConfig, damping: Rayleigh) -> ElasticFrame:
         raise ValueError(f"the condensed elastic model needs the fibre model, not {config.model!r}")
     flexibility, nodes, fibres, masses = _unit_load_responses(config)
     stiffness = _symmetric_inverse(flexibility)
-    damped = stiffness
-    if config.p_delta:
-        damped = _symmetric_inverse(
-            _unit_load_responses(dataclasses.replace(config, p_delta=False))[0]
-        )
     return ElasticFrame(
         masses=masses,
         stiffness=stiffness,
-        damping=damping.matrix(np.diag(masses), damped),
+        damping=damping.matrix(np.diag(masses), _damped_stiffness(config, stiffness)),
         node_map={node: unit @ stiffness for node, unit in nodes.items()},
         sections=fibres.sections,
         interior=fibres.interior,
@@ -105,17 +100,40 @@ def elastic_frame(config: FrameConfig, damping: Rayleigh) -> ElasticFrame:
     )
 
 
+@functools.lru_cache(maxsize=4)
+def condensed_system(
+    config: FrameConfig, damping: Rayleigh
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(masses [9] kg, stiffness [9, 9] N/m, damping [9, 9] N s/m)`` of the model of
+    ``config`` (fibre or hinges) condensed to its floors' horizontal displacements while it
+    is elastic, from unit loads at each floor, P-Delta included as the model has it; the
+    damping as :func:`elastic_frame`'s. Computed once per process, model and damping."""
+    flexibility, _, _, masses = _unit_load_responses(config, with_fibres=False)
+    stiffness = _symmetric_inverse(flexibility)
+    return masses, stiffness, damping.matrix(np.diag(masses), _damped_stiffness(config, stiffness))
+
+
+def _damped_stiffness(config: FrameConfig, stiffness: np.ndarray) -> np.ndarray:
+    """The condensed stiffness the Rayleigh damping is proportional to: without P-Delta's
+    leaning-column springs, which OpenSees leaves out of Rayleigh damping."""
+    if not config.p_delta:
+        return stiffness
+    plain = dataclasses.replace(config, p_delta=False)
+    return _symmetric_inverse(_unit_load_responses(plain, with_fibres=False)[0])
+
+
 def _symmetric_inverse(flexibility: np.ndarray) -> np.ndarray:
     stiffness = np.linalg.inv(flexibility)
     return 0.5 * (stiffness + stiffness.T)
 
 
 def _unit_load_responses(
-    config: FrameConfig,
-) -> tuple[np.ndarray, dict[int, np.ndarray], _Fibres, np.ndarray]:
+    config: FrameConfig, with_fibres: bool = True
+) -> tuple[np.ndarray, dict[int, np.ndarray], _Fibres | None, np.ndarray]:
     """Responses of the model to a unit horizontal load at each floor in turn: the
     ``[9, 9]`` floor flexibility (m/N), every node's ``[3, 9]`` displacements, the fibres'
-    ``[n, 9]`` stresses (Pa/N), and the ``[9]`` floor masses (kg)."""
+    ``[n, 9]`` stresses (Pa/N; None without ``with_fibres``), and the ``[9]`` floor masses
+    (kg)."""
     ops = import_opensees()
     n_floors = N_STORIES
     flexibility = np.zeros((n_floors, n_floors))
@@ -129,10 +147,13 @@ def _unit_load_responses(
             for node in ops.getNodeTags():
                 unit = np.asarray(ops.nodeDisp(node)) / UNIT_LOAD
                 nodes.setdefault(node, np.zeros((3, n_floors)))[:, j] = unit
-            fibres = _fibres(ops, frame, config)
-            stresses.append(fibres.stress / UNIT_LOAD)
+            if with_fibres:
+                fibres = _fibres(ops, frame, config)
+                stresses.append(fibres.stress / UNIT_LOAD)
     finally:
         ops.wipe()
+    if not with_fibres:
+        return flexibility, nodes, None, frame.masses.copy()
     fibres = dataclasses.replace(fibres, stress=np.stack(stresses, axis=1))
     return flexibility, nodes, fibres, frame.masses.copy()
 

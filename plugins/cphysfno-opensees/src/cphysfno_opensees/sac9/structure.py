@@ -17,6 +17,7 @@ from ..loader import import_opensees
 from ..pushover import PushoverCurve, plot_pushover, run_pushover, shear_building
 from ..structure import OpenSeesParams, OpenSeesStructure
 from .analysis import SolverConfig, analyse_record
+from .elastic import condensed_system
 from .model import FrameConfig, build_frame, eigenvalues
 from .sections import N_STORIES, level_heights
 
@@ -87,14 +88,16 @@ class Sac9Frame(OpenSeesStructure):
 
     Outputs are the horizontal displacements of levels 2 ... 9 and the roof relative to
     the ground (m). Records run in worker processes and a coarser ``dt`` resamples the
-    motion (:class:`~cphysfno_opensees.structure.OpenSeesStructure`). The linear system
-    is the paper's equivalent linear system: the shear building whose story stiffnesses
-    come from a pushover of this model; the periods are the frame's own.
+    motion (:class:`~cphysfno_opensees.structure.OpenSeesStructure`). Two linear systems:
+    :meth:`linear_system`, the frame's own condensed exactly to its floors, and
+    :meth:`equivalent_linear_system`, the paper's, the shear building whose story
+    stiffnesses come from a pushover of this model (the ``els`` preprocessor's); the
+    periods are the frame's own.
     """
 
     name = "sac9-frame"
     Params = Sac9FrameParams
-    capabilities = frozenset({"equivalent_linear_system", "coarse_simulation", "stories"})
+    capabilities = frozenset({"linear_system", "coarse_simulation", "stories"})
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -142,14 +145,16 @@ class Sac9Frame(OpenSeesStructure):
 
     def periods(self, n: int | None = None) -> np.ndarray:
         """First ``n`` (default all nine) elastic periods in s, longest first, from an
-        OpenSees eigen analysis of the initial stiffness without the P-Delta effect of the
-        weight (the model "before gravity")."""
-        return _periods(self.frame_config, loaded=False)[: self._count(n)].copy()
-
-    def loaded_periods(self, n: int | None = None) -> np.ndarray:
-        """First ``n`` (default all nine) periods in s with the P-Delta effect of the
-        floors' weight, which lengthens them; Rayleigh damping is matched to these."""
+        OpenSees eigen analysis of the initial stiffness with the P-Delta effect of the
+        floors' weight (as the frame responds at small amplitude, and as its
+        :meth:`linear_system`); Rayleigh damping is matched to these."""
         return _periods(self.frame_config, loaded=True)[: self._count(n)].copy()
+
+    def unloaded_periods(self, n: int | None = None) -> np.ndarray:
+        """First ``n`` (default all nine) periods in s without the P-Delta effect of the
+        weight (the model "before gravity", about 3 % shorter: the published periods are
+        of this kind)."""
+        return _periods(self.frame_config, loaded=False)[: self._count(n)].copy()
 
     def _count(self, n: int | None) -> int:
         if n is None:
@@ -181,6 +186,17 @@ class Sac9Frame(OpenSeesStructure):
         plot_pushover(curve, figure)
         return [document, figure]
 
+    def linear_system(self) -> LinearSystem:
+        """The frame's own linear system: the model condensed exactly to its nine floors
+        while it is elastic (:func:`~.elastic.condensed_system`: floor masses in kg, the
+        lateral stiffness in N/m with the P-Delta effect of the weight, the Rayleigh
+        damping of the analyses); influence ones, identity output map: its periods are
+        :meth:`periods`. The ``els-exact`` preprocessor solves it; ``els`` solves the
+        paper's :meth:`equivalent_linear_system`."""
+        masses, stiffness, damping = condensed_system(self.frame_config, self.rayleigh())
+        n = masses.size
+        return LinearSystem(np.diag(masses), damping, stiffness, np.ones(n), np.eye(n))
+
     def equivalent_linear_system(self) -> LinearSystem:
         """The paper's equivalent linear system: the shear building of the pushover's
         elastic story stiffnesses (N/m) and the floor masses (kg), Rayleigh damped with
@@ -195,7 +211,7 @@ class Sac9Frame(OpenSeesStructure):
         """Rayleigh coefficients on the mass and the initial stiffness that give
         ``damping_ratio`` in modes 1 and 3 of the model with its P-Delta effect."""
         config = self.frame_config
-        omega = 2.0 * np.pi / self.loaded_periods()
+        omega = 2.0 * np.pi / self.periods()
         first, second = (omega[m - 1] for m in config.damping_modes)
         return Rayleigh.matching(first, second, config.damping_ratio)
 
