@@ -140,3 +140,21 @@ def test_version(capsys):
         main(["--version"])
     assert done.value.code == 0
     assert capsys.readouterr().out.strip() == f"cphysfno {cp.__version__}"
+
+
+def test_every_kind_has_its_hook_specification_written_out():
+    import inspect
+
+    from cphysfno_core.api import hookspecs
+    from cphysfno_core.api.kinds import KINDS
+
+    written = {
+        name
+        for name, member in vars(hookspecs.Specifications).items()
+        if isinstance(member, staticmethod)
+    }
+    assert written == {kind.hook for kind in KINDS}
+    for kind in KINDS:
+        spec = getattr(hookspecs.Specifications, kind.hook)
+        assert kind.base.__name__ in inspect.getdoc(spec)
+        assert inspect.signature(spec).parameters == {}

@@ -12,27 +12,44 @@ from __future__ import annotations
 
 import pluggy
 
-from .kinds import KINDS, Kind
-
 PROJECT = "cphysfno"
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)
 
 
 class Specifications:
-    """The hook specifications, one per kind (what ``pluggy`` reads)."""
+    """The hook specifications, one per kind of :data:`~cphysfno_core.api.kinds.KINDS`
+    (what ``pluggy`` reads). Each hook returns a list of component classes; a class's
+    ``name`` must be unique within its kind."""
 
+    @staticmethod
+    @hookspec
+    def cphysfno_structures() -> list[type]:
+        """Structure classes (subclasses of :class:`cphysfno_core.Structure`): the models
+        that make the training data."""
 
-def _specification(kind: Kind):
-    def specification() -> list[type]:
-        """Return the plugin's component classes of this kind."""
+    @staticmethod
+    @hookspec
+    def cphysfno_ground_motions() -> list[type]:
+        """Ground-motion sources (subclasses of :class:`cphysfno_core.GroundMotionSource`)."""
 
-    specification.__name__ = specification.__qualname__ = kind.hook
-    specification.__doc__ = (
-        f"{kind.what} (subclasses of :class:`cphysfno_core.{kind.base.__name__}`)."
-    )
-    return staticmethod(hookspec(specification))
+    @staticmethod
+    @hookspec
+    def cphysfno_preprocessors() -> list[type]:
+        """Physics preprocessors (subclasses of :class:`cphysfno_core.PhysicsPreprocessor`):
+        the simplified physics ``H_p``."""
 
+    @staticmethod
+    @hookspec
+    def cphysfno_operators() -> list[type]:
+        """Neural operator classes (subclasses of :class:`cphysfno_core.NeuralOperator`)."""
 
-for _kind in KINDS:
-    setattr(Specifications, _kind.hook, _specification(_kind))
+    @staticmethod
+    @hookspec
+    def cphysfno_refiners() -> list[type]:
+        """Refiner classes (subclasses of :class:`cphysfno_core.Refiner`)."""
+
+    @staticmethod
+    @hookspec
+    def cphysfno_story_laws() -> list[type]:
+        """Story laws of shear buildings (subclasses of :class:`cphysfno_core.StoryLaw`)."""
