@@ -209,9 +209,11 @@ def direct_run(
     modes: tuple[int, int] = (1, 2),
     metres_per_unit: float = 1.0,
     tolerance: float = 1e-8,
+    held_gravity: str | None = None,
 ) -> DirectRun:
     """The script analysed with OpenSeesPy alone, as one would by hand: gravity in ten
-    load steps held constant, Rayleigh damping (mass and initial stiffness) matched to the
+    load steps held constant (or the script's own ``held_gravity`` function, which
+    analyses its loads and holds them), Rayleigh damping (mass and initial stiffness) matched to the
     eigen analysis of the gravity state in ``modes``, the record as a UniformExcitation in
     DOF 1, Newmark's average acceleration rule, Newton, the Transformation handler.
 
@@ -227,6 +229,9 @@ def direct_run(
     if gravity:
         script.gravity()
         analyse_gravity(ops, ("Transformation",), tolerance / metres_per_unit)
+    if held_gravity is not None:  # a function that analyses its loads and holds them
+        getattr(script, held_gravity)()
+        ops.wipeAnalysis()
     ops.constraints("Transformation")
     ops.numberer("Plain")
     ops.system("FullGeneral")

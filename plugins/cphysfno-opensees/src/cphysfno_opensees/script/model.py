@@ -131,10 +131,16 @@ def output_displacements(ops: Any, spec: ModelSpec) -> np.ndarray:
 
 
 def apply_gravity(ops: Any, spec: ModelSpec, constraints: tuple[Any, ...]) -> None:
-    """Call the script's gravity function; unless it has analysed its loads itself (the
-    analysis time has moved), analyse them statically (Newton, :data:`GRAVITY_STEPS` load
-    steps, the handler ``constraints``); then hold them constant with the time reset to 0
-    (``loadConst -time 0.0``) and wipe the analysis.
+    """Call the script's gravity function; unless it has analysed its loads itself,
+    analyse them statically (Newton, :data:`GRAVITY_STEPS` load steps, the handler
+    ``constraints``); then hold them constant with the time reset to 0 (``loadConst -time
+    0.0``) and wipe the analysis.
+
+    A function has analysed its loads when the analysis time has moved, or when the model
+    has moved: the idiom of the OpenSees examples analyses the loads and holds them with
+    ``loadConst -time 0.0``, which resets the clock but leaves the deformed state; such a
+    state is never analysed again (with a rigid link under a Penalty handler a second
+    analysis of a held state can fail to converge).
 
     Raises:
         ScriptError: the function raises, or the gravity analysis does not converge.
@@ -146,7 +152,7 @@ def apply_gravity(ops: Any, spec: ModelSpec, constraints: tuple[Any, ...]) -> No
             call(module, spec.script, spec.gravity)
         except ScriptError as error:
             raise ScriptError(f"{error}{said(messages)}") from None
-        if ops.getTime() == 0.0:
+        if ops.getTime() == 0.0 and not _has_moved(ops):
             ops.wipeAnalysis()
             ops.constraints(*constraints)
             ops.numberer("RCM")
@@ -165,6 +171,11 @@ def apply_gravity(ops: Any, spec: ModelSpec, constraints: tuple[Any, ...]) -> No
                 )
         ops.loadConst("-time", 0.0)
         ops.wipeAnalysis()
+
+
+def _has_moved(ops: Any) -> bool:
+    """Whether any node of the model is displaced from where it was built."""
+    return any(any(value != 0.0 for value in ops.nodeDisp(node)) for node in ops.getNodeTags())
 
 
 def start_transient(
