@@ -135,3 +135,23 @@ def test_the_toml_writer_names_a_value_it_cannot_write():
 def test_a_config_reads_back_from_its_toml(toy_registry):
     config = cp.parse_config(_with("training", epochs=3, learning_rate=2.5e-4))
     assert cp.parse_config(tomllib.loads(config.to_toml())) == config
+
+
+def test_check_validates_a_config_and_its_structure_before_any_work(toy_registry, tmp_path, capsys):
+    from cphysfno_core.app.cli import main
+
+    path = tmp_path / "ok.toml"
+    path.write_text(
+        '[structure]\nname = "toy-storied"\n\n[ground_motion]\nname = "toy-source"\n\n'
+        '[[preprocessor]]\nname = "toy-linear"\n\n[operator]\nname = "toy-operator"\n'
+    )
+    assert main(["check", str(path)]) == 0
+    printed = capsys.readouterr().out
+    assert "check out" in printed and "toy-storied: 2 outputs (dof-1, dof-2), T1 = 1 s" in printed
+    assert "2 stories, heights 3, 2.5 m" in printed
+    bad = tmp_path / "bad.toml"
+    bad.write_text(path.read_text().replace("toy-storied", "toy-structure").replace(
+        'name = "toy-linear"', 'name = "needs-linear-system"'))  # fmt: skip
+    assert main(["check", str(bad)]) == 2
+    error = capsys.readouterr().err
+    assert "needs-linear-system" in error and "linear_system" in error

@@ -87,3 +87,21 @@ def test_a_run_goes_end_to_end_and_fragility_asks_for_heights(springs, tmp_path,
     assert main(command) == 2
     assert "give the structure story_heights or drift_pairs" in capsys.readouterr().err
     assert not (tmp_path / "fragility").exists()
+
+
+def test_a_node_the_model_lacks_is_reported_before_any_motion_is_drawn(springs, tmp_path, capsys):
+    from cphysfno_core.app.cli import main
+
+    path = tmp_path / "missing.toml"
+    path.write_text(
+        f'[structure]\nname = "opensees-model"\nscript = "{springs}"\n'
+        "outputs = [[1, 1], [2, 1], [9, 1]]\n\n"
+        '[ground_motion]\nname = "white-noise"\n\n[[preprocessor]]\nname = "relaxed"\n\n'
+        '[operator]\nname = "fno"\n'
+    )
+    assert main(["check", str(path)]) == 2
+    assert "has no node 9" in capsys.readouterr().err
+    assert main(["generate", str(path), "--out", str(tmp_path / "run")]) == 2
+    assert "has no node 9" in capsys.readouterr().err
+    assert not (tmp_path / "run" / "dataset.h5").exists()
+    assert not any((tmp_path / "run").glob("*parts*"))

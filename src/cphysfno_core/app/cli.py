@@ -1,4 +1,5 @@
-"""Command line: ``cphysfno plugins | run | generate | train | evaluate``."""
+"""Command line: ``cphysfno plugins | inspect | check | run | generate | train | evaluate |
+study | predict | fragility | demands | summarise``."""
 
 from __future__ import annotations
 
@@ -80,6 +81,30 @@ def _plugins(args: argparse.Namespace) -> int:
         print("broken:")
         for b in registry.broken:
             print(f"  {b.plugin:<28} {b.distribution}: {b.error}")
+    return 0
+
+
+def _check(args: argparse.Namespace) -> int:
+    from ..data.generation import check_setup
+
+    config = load_config(args.config)
+    structure = check_setup(config)
+    print(f"{args.config}: the config and its structure check out")
+    print(
+        f"  structure {structure.name}: {structure.n_outputs} outputs "
+        f"({', '.join(structure.output_names)}), T1 = {structure.periods(1)[0]:.3g} s"
+    )
+    if "stories" in structure.capabilities:
+        stories = structure.stories()
+        heights = ", ".join(f"{h:.3g}" for h in stories.heights_m)
+        print(f"  {stories.n_stories} stories, heights {heights} m")
+        if not stories.has_heights:
+            print(
+                f"  note: {', '.join(stories.without_height())} have no height: drifts in m; "
+                "fragility on PID and pelicun demands need story_heights or drift_pairs"
+            )
+    names = ", ".join(pp.name for pp in config.preprocessor) or "none"
+    print(f"  preprocessors: {names}; {config.data.n_records} records to simulate")
     return 0
 
 
@@ -293,6 +318,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--records", type=int, default=5, help="records whose provenance is shown (default 5)"
     )
     inspect.set_defaults(func=_inspect)
+    text = (
+        "check a config before any work: its fields, its structure's model (nodes, DOFs, "
+        "gravity function), its stories and the capabilities its preprocessors need"
+    )
+    check = commands.add_parser("check", help=text, description=text)
+    check.add_argument("config", help="experiment TOML file")
+    check.set_defaults(func=_check)
     stages = {
         "run": "generate data, train every model, evaluate and write the report",
         "generate": "simulate the dataset (resumes an interrupted run)",

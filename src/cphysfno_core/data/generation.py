@@ -28,7 +28,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from ..api.interfaces import GroundMotionSource
+from ..api.interfaces import GroundMotionSource, Structure
 from ..api.registry import get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig
@@ -236,6 +236,27 @@ def _start(config: ExperimentConfig, parts: Path, identity: str) -> tuple[_Store
     return stored, config.data.chunk_size
 
 
+def check_setup(config: ExperimentConfig) -> Structure:
+    """Build the config's structure and check, before any motion is drawn or any record
+    simulated, what only the structure can tell: its model builds (an OpenSees script's
+    nodes, DOFs and gravity function: :meth:`~Structure.periods` builds it), its stories
+    can be told (where it declares them), and every preprocessor finds the capabilities it
+    needs. Returns the structure.
+
+    Raises:
+        ConfigError, CapabilityError, or the structure's own error: what is wrong, naming
+            the setting.
+    """
+    registry = get_registry()
+    structure = registry.create("structure", config.structure.name, **config.structure.params)
+    structure.periods(1)
+    if "stories" in structure.capabilities:
+        structure.stories()
+    for pp in config.preprocessor:
+        registry.create("preprocessor", pp.name, **pp.params).check(structure)
+    return structure
+
+
 def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool = True) -> Path:
     """Simulate ``config.data.n_records`` records into the HDF5 file ``path``.
 
@@ -252,10 +273,9 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
         if progress:
             show_progress(f"dataset {path} is complete: nothing to simulate")
         return path
-    registry = get_registry()
-    structure = registry.create("structure", config.structure.name, **config.structure.params)
+    structure = check_setup(config)
     for pp in config.preprocessor:  # fail on a missing capability before any simulation
-        registry.create("preprocessor", pp.name, **pp.params).fit(structure)
+        get_registry().create("preprocessor", pp.name, **pp.params).fit(structure)
     parts = parts_folder(path)
     motions, chunk = _start(config, parts, identity)
     n = motions.n_records
