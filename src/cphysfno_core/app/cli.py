@@ -94,18 +94,29 @@ def _check(args: argparse.Namespace) -> int:
         f"  structure {structure.name}: {structure.n_outputs} outputs "
         f"({', '.join(structure.output_names)}), T1 = {structure.periods(1)[0]:.3g} s"
     )
-    if "stories" in structure.capabilities:
-        stories = structure.stories()
-        heights = ", ".join(f"{h:.3g}" for h in stories.heights_m)
-        print(f"  {stories.n_stories} stories, heights {heights} m")
-        if not stories.has_heights:
-            print(
-                f"  note: {', '.join(stories.without_height())} have no height: drifts in m; "
-                "fragility on PID and pelicun demands need story_heights or drift_pairs"
-            )
+    for line in _stories_lines(structure):
+        print(f"  {line}")
     names = ", ".join(pp.name for pp in config.preprocessor) or "none"
     print(f"  preprocessors: {names}; {config.data.n_records} records to simulate")
     return 0
+
+
+def _stories_lines(structure) -> list[str]:
+    """What ``cphysfno check`` says of a structure's stories."""
+    if "stories" not in structure.capabilities:
+        return []
+    try:
+        stories = structure.stories()
+    except ConfigError as error:
+        return [f"note: no stories ({error}): no EDPs, and no collapse by drift"]
+    heights = ", ".join(f"{h:.3g}" for h in stories.heights_m)
+    lines = [f"{stories.n_stories} stories, heights {heights} m"]
+    if not stories.has_heights:
+        lines.append(
+            f"note: {', '.join(stories.without_height())} have no height: drifts in m; "
+            "fragility on PID and pelicun demands need story_heights or drift_pairs"
+        )
+    return lines
 
 
 def _stage(args: argparse.Namespace) -> int:

@@ -21,6 +21,7 @@ import logging
 import os
 import shutil
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -33,7 +34,7 @@ from ..api.registry import get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig
 from ..signals import GroundMotions
-from ..signals.errors import ConfigError, DatasetError
+from ..signals.errors import ConfigError, CphysfnoWarning, DatasetError
 from ..signals.progress import show_progress, time_left
 from .datasets import (
     SPLITS,
@@ -240,8 +241,8 @@ def check_setup(config: ExperimentConfig) -> Structure:
     """Build the config's structure and check, before any motion is drawn or any record
     simulated, what only the structure can tell: its model builds (an OpenSees script's
     nodes, DOFs and gravity function: :meth:`~Structure.periods` builds it), its stories
-    can be told (where it declares them), and every preprocessor finds the capabilities it
-    needs. Returns the structure.
+    can be told (where it declares them; a :class:`CphysfnoWarning` where they cannot),
+    and every preprocessor finds the capabilities it needs. Returns the structure.
 
     Raises:
         ConfigError, CapabilityError, or the structure's own error: what is wrong, naming
@@ -251,7 +252,14 @@ def check_setup(config: ExperimentConfig) -> Structure:
     structure = registry.create("structure", config.structure.name, **config.structure.params)
     structure.periods(1)
     if "stories" in structure.capabilities:
-        structure.stories()
+        try:
+            structure.stories()
+        except ConfigError as error:  # drift ratios and EDPs need them; the run does not
+            warnings.warn(
+                f"{structure.name}: no stories ({error}): no EDPs, and no collapse by drift",
+                CphysfnoWarning,
+                stacklevel=2,
+            )
     for pp in config.preprocessor:
         registry.create("preprocessor", pp.name, **pp.params).check(structure)
     return structure
