@@ -88,6 +88,19 @@ def test_python_examples_run(page, tmp_path, monkeypatch):
         exec(compile(block, str(page), "exec"), namespace)
 
 
+def test_the_readmes_python_runs_and_the_readme_stays_short(tmp_path, monkeypatch, capsys):
+    readme = (ROOT / "README.md").read_text()
+    assert len(readme.splitlines()) <= 120
+    blocks = BLOCK.findall(readme)
+    assert blocks, "the README shows a runnable Python example"
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), namespace)
+    assert "relative L2 on the test records" in capsys.readouterr().out
+    assert (tmp_path / "my-model" / "model.json").exists()
+
+
 def test_every_plugin_has_a_page_in_the_nav(plugin_pages):
     assert plugin_pages.distributions() == PLUGIN_DIRS
     nav = yaml.load((ROOT / "mkdocs.yml").read_text(), Loader=yaml.BaseLoader)["nav"]
