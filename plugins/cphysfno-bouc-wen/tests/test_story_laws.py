@@ -20,6 +20,7 @@ LAWS = {
     "bilinear": {"yield_displacement": YIELD},
     "bouc-wen": {},
     "peak-oriented": {"yield_displacement": YIELD},
+    "pinching": {"yield_displacement": YIELD},
 }
 
 

@@ -33,66 +33,114 @@ def peak_oriented_force(c, v, s):
 
 
 @numba.njit(**LAW_JIT)
-def reload_target(c, v, s, direction):
-    """Force (N) of the branch that reloading follows at drift ``v`` in ``direction``
-    (+1 or -1), and that branch's slope (N/m): the line from the last zero crossing to the
-    peak, or the backbone past the peak."""
-    k, alpha = c[0], c[1]
+def unloading_stiffness(c, s, side, beta):
+    """Unloading stiffness (N/m) from a force on ``side`` (+1 or -1): ``k (u_y / d)^beta``
+    with ``d`` the largest drift (m) reached on that side (at least ``u_y``); ``beta = 0``
+    gives ``k``."""
+    k, u_y = c[0], c[2]
+    largest = u_y + (s[1] if side > 0 else s[2])
+    return k * (u_y / largest) ** beta
+
+
+@numba.njit(**LAW_JIT)
+def pinched_target(c, v, s, direction, pinch_x, pinch_y, beta):
+    """Force (N) of the branch that reloading follows at drift ``v`` (m) in ``direction``
+    (+1 or -1), and that branch's slope (N/m).
+
+    Past the peak the branch is the backbone. Before it, two lines: from the last zero
+    crossing to the pinch point, then to the peak (only the second where the pinch point
+    is not past the crossing). The pinch point has ``pinch_y`` times the peak force and
+    lies ``pinch_x`` of the way from the crossing to the drift where the unloading line
+    from the peak (stiffness :func:`unloading_stiffness` of this side) has that force, as
+    in OpenSees' ``Hysteretic``; ``pinch_x = pinch_y = 1`` puts it on the peak. A line
+    steeper than the unloading stiffness turns about its end to that stiffness."""
     peak = direction * (c[2] + (s[1] if direction > 0 else s[2]))
     crossing = s[3] if direction > 0 else s[4]
     top = backbone(c, peak)
     if direction * (v - peak) >= 0.0:
-        return backbone(c, v), alpha * k
-    span = peak - crossing
+        return backbone(c, v), c[1] * c[0]
+    stiffness = unloading_stiffness(c, s, direction, beta)
+    toward = peak - (1.0 - pinch_y) * top / stiffness
+    pinch = toward - (1.0 - pinch_x) * (toward - crossing)
+    height = pinch_y * top
+    if direction * (v - pinch) >= 0.0 or direction * (pinch - crossing) <= 0.0:
+        span, rise, end, level = peak - pinch, top - height, peak, top
+    else:
+        span, rise, end, level = pinch - crossing, height, pinch, height
     if direction * span <= 0.0:
-        return top, k
-    slope = min(top / span, k)
-    return top + slope * (v - peak), slope
+        return level, stiffness
+    slope = min(rise / span, stiffness)
+    return level + slope * (v - end), slope
 
 
 @numba.njit(**LAW_JIT)
-def peak_oriented_rate(c, v, v_dot, s, out):
-    """``F' = k_t v'`` with the tangent of the branch the story is on (state in
-    :class:`PeakOrientedLaw`); peaks and zero crossings move in :func:`peak_oriented_settle`."""
-    k = c[0]
+def reload_target(c, v, s, direction):
+    """Force (N) of the branch that reloading follows at drift ``v`` in ``direction``
+    (+1 or -1), and that branch's slope (N/m): the line from the last zero crossing to the
+    peak, or the backbone past the peak."""
+    return pinched_target(c, v, s, direction, 1.0, 1.0, 0.0)
+
+
+@numba.njit(**LAW_JIT)
+def hysteretic_rate(c, v, v_dot, s, out, pinch_x, pinch_y, beta):
+    """``F' = k_t v'`` with the tangent of the branch the story is on: unloading toward
+    zero force at the unloading stiffness of the side the force is on, reloading below
+    :func:`pinched_target` at the unloading stiffness of the side it heads for, else the
+    target's slope. Peaks and zero crossings move in :func:`hysteretic_settle`."""
     force = s[0]
     for m in range(1, 5):
         out[m] = 0.0
     direction = 1.0 if v_dot >= 0.0 else -1.0
     if direction * force < 0.0:
-        out[0] = k * v_dot
+        out[0] = unloading_stiffness(c, s, -direction, beta) * v_dot
         return
-    target, slope = reload_target(c, v, s, direction)
-    if direction * (target - force) > 1e-9 * k * c[2]:
-        out[0] = k * v_dot
+    target, slope = pinched_target(c, v, s, direction, pinch_x, pinch_y, beta)
+    if direction * (target - force) > 1e-9 * c[0] * c[2]:
+        out[0] = unloading_stiffness(c, s, direction, beta) * v_dot
     else:
         out[0] = slope * v_dot
 
 
 @numba.njit(**LAW_JIT)
-def peak_oriented_settle(c, v, s):
-    """Keep the force inside the reloading branches, move a peak that the story has
-    passed on the backbone, and follow the zero crossing of the elastic unloading line."""
+def hysteretic_settle(c, v, s, pinch_x, pinch_y, beta):
+    """Keep the force inside the reloading branches, put it on the backbone past the
+    peak (where reloading at the unloading stiffness has not reached the peak force, the
+    force steps onto the backbone, as in OpenSees' ``Hysteretic``), move a peak that the
+    story has passed, and follow the zero crossing of the unloading line."""
     k, u_y = c[0], c[2]
+    tolerance = 1e-9 * k * u_y
     for direction in (1.0, -1.0):
         if direction * s[0] >= 0.0:
-            target, _ = reload_target(c, v, s, direction)
-            if direction * (s[0] - target) > 0.0:
-                s[0] = target
-            if (
-                direction * v > u_y + (s[1] if direction > 0 else s[2])
-                and abs(s[0] - backbone(c, v)) <= 1e-9 * k * u_y
+            target, _ = pinched_target(c, v, s, direction, pinch_x, pinch_y, beta)
+            beyond = direction * v - (u_y + (s[1] if direction > 0 else s[2]))
+            if direction * (s[0] - target) > 0.0 or (
+                beyond >= 0.0 and direction * (target - s[0]) > tolerance
             ):
+                s[0] = target
+            if beyond > 0.0 and abs(s[0] - backbone(c, v)) <= tolerance:
                 if direction > 0:
                     s[1] = v - u_y
                 else:
                     s[2] = -v - u_y
         else:
-            crossing = v - s[0] / k
+            crossing = v - s[0] / unloading_stiffness(c, s, -direction, beta)
             if direction > 0:
                 s[3] = crossing
             else:
                 s[4] = crossing
+
+
+@numba.njit(**LAW_JIT)
+def peak_oriented_rate(c, v, v_dot, s, out):
+    """:func:`hysteretic_rate` without pinching, unloading at ``k`` (state in
+    :class:`PeakOrientedLaw`)."""
+    hysteretic_rate(c, v, v_dot, s, out, 1.0, 1.0, 0.0)
+
+
+@numba.njit(**LAW_JIT)
+def peak_oriented_settle(c, v, s):
+    """:func:`hysteretic_settle` without pinching, unloading at ``k``."""
+    hysteretic_settle(c, v, s, 1.0, 1.0, 0.0)
 
 
 class PeakOrientedLaw(YieldingLaw):
