@@ -180,3 +180,24 @@ def test_a_stick_that_cannot_follow_the_structure_says_so(bilinear_building, tmp
     summary = (tmp_path / "summary.md").read_text()
     assert worst > 0.10, worst
     assert f"misses the cyclic story shear by {worst:.0%}" in summary
+
+
+PINCHING = {
+    "name": "pinching",
+    "alpha": 0.05,
+    "yield_displacement": (0.008, 0.01, 0.012),
+    "pinch_x": 0.6,
+    "pinch_y": 0.3,
+    "beta_unload": 0.4,
+}
+
+
+def test_pinching_laws_are_found_and_chosen():
+    calibration = Stick(**FAST).fit(building(PINCHING)).calibration_
+    assert calibration.law == "pinching"
+    found = calibration.fits["pinching"].parameters
+    for key, value in PINCHING.items():
+        if key != "name":
+            assert np.allclose(found[key], value, rtol=1e-3), key
+    # a peak-oriented law (no pinching, unloading at k) cannot follow the pinched loops
+    assert min(calibration.fits["peak-oriented"].errors) > 1e-2

@@ -1,9 +1,9 @@
 """Story laws fitted to a structure's pushover: the calibration of the ``stick`` preprocessor.
 
 Each candidate law (a registered story law with a yield drift: ``bilinear``,
-``peak-oriented``, ``bouc-wen``) is fitted to every story's cyclic shear-drift curve by
-least squares on the story shear, replaying the story's drift history through the law's
-compiled functions (the story test of a ``shear-building``,
+``peak-oriented``, ``bouc-wen``, ``pinching``) is fitted to every story's cyclic
+shear-drift curve by least squares on the story shear, replaying the story's drift
+history through the law's compiled functions (the story test of a ``shear-building``,
 ``ShearBuilding.story_shears``, the kernel family that then simulates the stick). The
 law whose worst story fits best is chosen.
 """
@@ -74,6 +74,18 @@ def _bouc_wen(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, flo
     }
 
 
+def _pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, float]:
+    """The pinch point's drift and force ratios and the unloading stiffness's exponent."""
+    pinch_x, pinch_y, beta_unload = shape
+    return {
+        "alpha": alpha,
+        "yield_displacement": u_y,
+        "pinch_x": pinch_x,
+        "pinch_y": pinch_y,
+        "beta_unload": beta_unload,
+    }
+
+
 LAW_SPACES = {
     "bilinear": LawSpace("bilinear"),
     "peak-oriented": LawSpace("peak-oriented"),
@@ -82,6 +94,12 @@ LAW_SPACES = {
         shape_starts=((1.5, 0.5), (4.0, 0.5), (10.0, 0.5)),
         shape_bounds=((1.0, 20.0), (0.02, 0.98)),
         parameters=_bouc_wen,
+    ),
+    "pinching": LawSpace(
+        "pinching",
+        shape_starts=((0.5, 0.3, 0.3), (0.9, 0.8, 0.0)),
+        shape_bounds=((0.05, 1.0), (0.05, 1.0), (0.0, 1.0)),
+        parameters=_pinching,
     ),
 }
 """The laws the calibration can fit, by name."""
