@@ -35,36 +35,35 @@ class CollapsingStructure(toy_components.StoriedToyStructure):
     class Params(toy_components.StoriedToyStructure.Params):
         limit: float = 1.0
 
-    def simulate(self, motions, *, dt=None):
-        responses = super().simulate(motions, dt=dt)
-        collapsed = np.max(np.abs(motions.acceleration), axis=1) > self.params.limit
-        displacement = responses.displacement.copy()
-        displacement[collapsed, 30:] = np.nan
+    def _stopped(self, motions):
+        """``(peaks [n], whether each record stops at its 30th sample [n], displacement
+        with NaN after the stop)``."""
+        displacement = super().simulate(motions).displacement.copy()
         peaks = np.max(np.abs(motions.acceleration), axis=1)
+        stops = peaks > self.params.limit
+        displacement[stops, 30:] = np.nan
+        return peaks, stops, displacement
+
+    def simulate(self, motions, *, dt=None):
+        peaks, collapsed, displacement = self._stopped(motions)
         messages = {
             i: f"WARNING: peak {peak:.4f} m/s^2\n"
             + ("Newton failed at t = 0.30 s\n" if collapsed[i] else "")
             for i, peak in enumerate(peaks)
         }
-        return cp.Responses(displacement, responses.dt, collapsed=collapsed, messages=messages)
+        return cp.Responses(displacement, motions.dt, collapsed=collapsed, messages=messages)
 
 
-class StallingStructure(toy_components.StoriedToyStructure):
-    """The toy structure whose analysis stops converging at the 30th sample of a record
-    whose peak |a_g| exceeds ``limit``, below any collapse: a non-converged record."""
+class StallingStructure(CollapsingStructure):
+    """The same, but the record whose peak exceeds ``limit`` stops converging at its 30th
+    sample below any collapse: a non-converged record."""
 
     name = "toy-stalling"
 
-    class Params(toy_components.StoriedToyStructure.Params):
-        limit: float = 1.0
-
     def simulate(self, motions, *, dt=None):
-        responses = super().simulate(motions, dt=dt)
-        stalls = np.max(np.abs(motions.acceleration), axis=1) > self.params.limit
-        displacement = responses.displacement.copy()
-        displacement[stalls, 30:] = np.nan
+        _, stalls, displacement = self._stopped(motions)
         stopped = {int(i): "did not converge at t = 0.30 s" for i in np.flatnonzero(stalls)}
-        return cp.Responses(displacement, responses.dt, non_converged=stopped)
+        return cp.Responses(displacement, motions.dt, non_converged=stopped)
 
 
 @cp.hookimpl
