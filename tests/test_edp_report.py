@@ -118,6 +118,8 @@ def test_a_run_reports_each_models_edp_errors_and_the_drift_scatter(toy_registry
     )
     saved = out / "models" / "c-phystoy-operator-toy-linear" / "preprocessor" / "summary.md"
     assert saved.read_text() == "Toy linear oscillators at (1.0, 3.0) Hz.\n"
+    loaded = cp.CompositeModel.load(saved.parents[1])  # the preprocessor restores from it
+    assert loaded.preprocessor.restored_from_ == saved.parent
     assert "| baseline-gp |" in report and "Gaussian process on ln PGA" in report
     assert "## Engineering demand parameters (test split)" in report
     assert "| model | story-1 | story-2 |" in report

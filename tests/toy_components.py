@@ -199,6 +199,10 @@ class ToyPreprocessor(cp.PhysicsPreprocessor):
         summary.write_text(f"Toy linear oscillators at {frequencies} Hz.\n")
         return [summary]
 
+    def restore(self, structure, directory):
+        self.restored_from_ = directory if (directory / "summary.md").exists() else None
+        return self.fit(structure)
+
 
 class FragilePreprocessor(ToyPreprocessor):
     """The toy linear part, NaN for the records whose peak ground acceleration exceeds

@@ -201,3 +201,18 @@ def test_pinching_laws_are_found_and_chosen():
             assert np.allclose(found[key], value, rtol=1e-3), key
     # a peak-oriented law (no pinching, unloading at k) cannot follow the pinched loops
     assert min(calibration.fits["peak-oriented"].errors) > 1e-2
+
+
+def test_a_saved_stick_is_restored_without_pushing_the_structure_again(
+    bilinear_stick, bilinear_building, motions, tmp_path, monkeypatch
+):
+    bilinear_stick.write_artifacts(tmp_path)
+
+    def no_pushover(*args, **kwargs):
+        raise AssertionError("the structure was pushed again")
+
+    monkeypatch.setattr(bilinear_building, "story_pushover", no_pushover)
+    restored = Stick(**FAST).restore(bilinear_building, tmp_path)
+    np.testing.assert_array_equal(restored.transform(motions), bilinear_stick.transform(motions))
+    with pytest.raises(AssertionError, match="pushed again"):  # nothing saved: it fits
+        Stick(**FAST).restore(bilinear_building, tmp_path / "empty")

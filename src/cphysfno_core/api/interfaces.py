@@ -315,6 +315,12 @@ class PhysicsPreprocessor(Component, ABC):
         shows as it is. The default writes nothing."""
         return []
 
+    def restore(self, structure: Structure, directory: Path) -> PhysicsPreprocessor:
+        """Fitted again for a loaded model, from what :meth:`write_artifacts` wrote into
+        ``directory`` where that suffices (a calibration that took long to make); the
+        default fits on ``structure``."""
+        return self.fit(structure)
+
 
 class NeuralOperator(torch.nn.Module):
     """A learned operator mapping ``[batch, T, in_channels]`` to ``[batch, T, out_channels]``.

@@ -145,7 +145,7 @@ def load_model(directory: str | Path, factory: Callable[..., Any]) -> Any:
 
     ``factory`` builds the model from its parts (the :class:`CompositeModel` constructor's
     arguments); the fitted state is then set on it and its preprocessor fitted to its
-    structure.
+    structure again (or restored from what it saved: ``PhysicsPreprocessor.restore``).
 
     ``model.json`` is validated, the tensors are read with ``weights_only=True`` and the
     arrays without pickle; a tampered, truncated or foreign file raises DatasetError.
@@ -215,6 +215,6 @@ def load_model(directory: str | Path, factory: Callable[..., Any]) -> Any:
             {k[len(prefix) :]: v for k, v in arrays.items() if k.startswith(prefix)}
         )
     if model.preprocessor is not None:
-        model.preprocessor.fit(model.structure)
+        model.preprocessor.restore(model.structure, directory / "preprocessor")
     operator.eval()
     return model

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Annotated
 
@@ -21,7 +22,7 @@ from cphysfno_core import (
 from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 
 from .fitted import check_fitted
-from .stick_calibration import LAW_SPACES, calibrate
+from .stick_calibration import LAW_SPACES, StickCalibration, calibrate
 from .stick_figures import write_stick_artifacts
 
 DriftRatio = Annotated[float, Field(gt=0.0, le=0.2)]
@@ -103,8 +104,23 @@ class Stick(PhysicsPreprocessor):
         cyclic = structure.story_pushover(
             cyclic_protocol(p.cycle_amplitudes, p.points_per_cycle), backbone.pattern
         )
-        self.calibration_ = calibrate(structure, backbone, cyclic, p.laws, p.tolerance)
-        self.stick_ = create("structure", "shear-building", **self.calibration_.shear_building())
+        return self._built(calibrate(structure, backbone, cyclic, p.laws, p.tolerance), floors)
+
+    def restore(self, structure: Structure, directory: Path) -> Stick:
+        """The stick of the calibration :meth:`write_artifacts` saved in ``directory``
+        (``stick.json``), without pushing the structure again; :meth:`fit` where there is
+        none."""
+        saved = Path(directory) / "stick.json"
+        if not saved.is_file():
+            return self.fit(structure)
+        self.check(structure)
+        calibration = StickCalibration.from_dict(json.loads(saved.read_text()))
+        floors = _floors(structure.stories(), structure.n_outputs, structure.name)
+        return self._built(calibration, floors)
+
+    def _built(self, calibration: StickCalibration, floors: np.ndarray) -> Stick:
+        self.calibration_ = calibration
+        self.stick_ = create("structure", "shear-building", **calibration.shear_building())
         self.floors_ = floors
         return self
 
