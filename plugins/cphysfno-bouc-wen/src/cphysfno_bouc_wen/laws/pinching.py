@@ -9,7 +9,12 @@ from cphysfno_core import LawFunctions, Params, per_story
 from pydantic import Field
 
 from .common import LAW_JIT, PerStory, RatioPerStory
-from .peak_oriented import hysteretic_rate, hysteretic_settle, peak_oriented_force
+from .peak_oriented import (
+    PeakOrientedLaw,
+    hysteretic_rate,
+    hysteretic_settle,
+    peak_oriented_force,
+)
 from .yielding import YieldingLaw
 
 UNCACHED = {**LAW_JIT, "cache": False}
@@ -74,14 +79,8 @@ class PinchingLaw(YieldingLaw):
 
     name = "pinching"
     Params = PinchingLawParams
-    n_states = 5
-    state_names = (
-        "story shear F, N",
-        "largest positive drift past yield p+, m",
-        "largest negative drift past yield p-, m",
-        "drift at the last upward zero crossing of the force, m",
-        "drift at the last downward zero crossing of the force, m",
-    )
+    n_states = PeakOrientedLaw.n_states  # the same state, read through a pinch point
+    state_names = PeakOrientedLaw.state_names
 
     def coefficients(self, stiffness: np.ndarray) -> np.ndarray:
         """``[d, 6]``: ``k`` (N/m), ``alpha``, ``u_y`` (m), ``pinch_x``, ``pinch_y`` and
