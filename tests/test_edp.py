@@ -7,6 +7,7 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core import edp
+from cphysfno_core.signals import ResponseChannel
 from cphysfno_core.testing import small_motions
 
 MASS, K1, K2 = 2.0e5, 4.0e7, 2.5e7  # kg, N/m: 1.3 and 3.1 Hz
@@ -59,7 +60,9 @@ def test_drift_ratios_and_floor_accelerations_match_the_hand_computation():
     exact = np.array([a0, abs(a0 - w**2 * u1), abs(a0 - w**2 * u2)])
     bound = (w * dt) ** 2 * (a0 / 6 + w**2 * np.abs([0.0, u1, u2]) / 12)
     assert np.all(np.abs(found.pfa[0] - exact) <= bound)
-    assert found.floor_names(("first", "second")) == ["ground", "first", "second"]
+    named = edp.compute(u, TWO_STORIES, motions, output_names=("first", "second"))
+    assert named.columns["PFA"] == ("ground", "first", "second")
+    assert named.units["PFA"] == ("m/s^2",) * 3 and named.units["PID"] == ("m/m",) * 2
 
 
 def test_the_same_function_takes_responses_a_structure_or_an_array():
@@ -67,8 +70,8 @@ def test_the_same_function_takes_responses_a_structure_or_an_array():
     structure = toy_components.StoriedToyStructure(heights_m=(H1, H2))
     from_array = edp.compute(u, TWO_STORIES, motions)
     from_responses = edp.compute(cp.Responses(u, motions.dt), structure, motions)
-    for key, values in from_array.as_dict().items():
-        np.testing.assert_array_equal(values, from_responses.as_dict()[key])
+    for key, values in from_array.values.items():
+        np.testing.assert_array_equal(values, from_responses.values[key])
 
 
 def test_residual_drift_is_the_mean_over_the_free_vibration():
@@ -164,23 +167,27 @@ def test_the_interval_holds_every_history_that_stays_in_the_band():
 
 
 def test_log_errors_are_quantiles_of_the_log_ratio():
-    truth = edp.EDPs(
-        pid=np.array([[0.01, 0.02], [0.02, 0.04], [0.03, 0.0]]),
-        rid=np.zeros((3, 2)),
-        pfa=np.array([[1.0, 2.0, 3.0]] * 3),
-        stories=TWO_STORIES,
+    truth = edp.EDPs.from_tables(
+        {
+            "PID": np.array([[0.01, 0.02], [0.02, 0.04], [0.03, 0.0]]),
+            "RID": np.zeros((3, 2)),
+            "PFA": np.array([[1.0, 2.0, 3.0]] * 3),
+        },
+        TWO_STORIES,
     )
-    predicted = edp.EDPs(
-        pid=truth.pid * np.array([[1.1], [1 / 1.2], [1.0]]),
-        rid=truth.rid,
-        pfa=truth.pfa * 2.0,
-        stories=TWO_STORIES,
+    predicted = truth.with_values(
+        {
+            "PID": truth.pid * np.array([[1.1], [1 / 1.2], [1.0]]),
+            "RID": truth.rid,
+            "PFA": truth.pfa * 2.0,
+        }
     )
     errors = edp.log_errors(predicted, truth)
     np.testing.assert_allclose(errors["PID"]["median"], [np.log(1.1), np.log(1.1 * 1.2) / 2])
     np.testing.assert_allclose(errors["PID"]["p90"][1], np.log(1.2) - 0.1 * np.log(1.2 / 1.1))
     np.testing.assert_allclose(errors["PFA"]["median"], [np.log(2.0)] * 2)
     assert len(errors["PFA"]["p90"]) == 2  # floors above the ground only
+    assert set(errors) == {"PID", "PFA"}  # RID is not scored
 
 
 def test_wrong_inputs_are_refused_with_what_to_change():
@@ -208,3 +215,44 @@ def test_a_composite_models_prediction_gets_edps_and_drift_bounds(trained_toy):
     bounds = edp.interval(mean, std, TWO_STORIES, motions, k=1.0)
     assert np.all(bounds.pid_lower <= predicted.pid) and np.all(predicted.pid <= bounds.pid_upper)
     assert np.all(bounds.rid_lower <= predicted.rid) and np.all(predicted.rid <= bounds.rid_upper)
+
+
+def test_floor_velocities_and_output_displacements_match_the_hand_computation():
+    motions, u, (u1, u2), a0, w = _harmonic_case()
+    found = edp.compute(u, TWO_STORIES, motions)
+    # Absolute velocity U w cos(w t) + v_g(t), v_g = a0 / w (1 - cos(w t)) from rest; the
+    # centred difference and the trapezoidal v_g are within (w dt)^2 / 6 of it.
+    t = motions.time[1:-1]
+    ground = a0 / w * (1 - np.cos(w * motions.time))
+    exact = [np.max(np.abs(amplitude * w * np.cos(w * t) + ground[1:-1])) for amplitude in (u1, u2)]
+    assert found["PFV"].shape == (1, 3) and found.units["PFV"] == ("m/s",) * 3
+    np.testing.assert_allclose(
+        found["PFV"][0], [2 * a0 / w, *exact], rtol=(w * motions.dt) ** 2 / 6
+    )
+    np.testing.assert_allclose(found["pd"][0], [abs(u1), abs(u2)], rtol=1e-12)
+    assert found.columns["PD"] == ("output-1", "output-2")
+    assert "PR" not in found.values  # no named responses recorded
+
+
+def test_a_named_responses_peak_is_its_largest_magnitude_in_its_unit():
+    motions, u, *_ = _harmonic_case()
+    shear = -3.0 * np.sin(2 * np.pi * motions.time)[None, :, None]
+    channel = ResponseChannel("base_shear", "kN", pelicun_type="VB")
+    responses = cp.Responses(u, motions.dt, extras={"base_shear": shear})
+    found = edp.compute(responses, TWO_STORIES, motions, channels=[channel])
+    np.testing.assert_allclose(found["PR"], [[3.0]], rtol=1e-12)
+    assert found.columns["PR"] == ("base_shear",) and found.units["PR"] == ("kN",)
+    with pytest.raises(cp.InputError, match="no named response 'isolator'"):
+        edp.compute(responses, TWO_STORIES, motions, channels=[ResponseChannel("isolator", "m")])
+
+
+def test_an_unknown_edp_is_an_error_that_lists_the_known_ones():
+    with pytest.raises(cp.ConfigError, match="unknown EDP 'PGX'.*PID .*PFV "):
+        edp.definition("PGX")
+    motions, u, *_ = _harmonic_case()
+    found = edp.compute(u, TWO_STORIES, motions)
+    with pytest.raises(cp.ConfigError, match="unknown EDP"):
+        found["drift"]
+    with pytest.raises(cp.ConfigError, match="PR .* was not computed"):
+        found["pr"]
+    assert list(edp.EDP_TABLE) == ["PID", "RID", "PFA", "PFV", "PD", "PR"]

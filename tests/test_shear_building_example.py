@@ -91,7 +91,9 @@ def test_fragility_writes_where_it_is_told(run, tmp_path):
         (["--im", "arias"], "unknown intensity measure 'arias'"),
         (["--im", "sa:-1"], "periods must be numbers of s > 0"),
         (["--config", "nowhere.toml"], "nowhere.toml"),
-        (["--limit-states", "drift=0.01"], "demand one of pid, pfa"),
+        (["--limit-states", "drift=0.01"], "unknown EDP 'drift': the EDPs are PID"),
+        (["--limit-states", "pr=10"], "PR (peak of each named response"),
+        (["--limit-states", "pd:roof=0.1"], "'roof' is not a column of pd; its columns are"),
         (["--model", "nothing"], "no saved model 'nothing'"),
     ],
 )
@@ -100,12 +102,34 @@ def test_fragility_refuses_what_it_cannot_fit(run, capsys, arguments, message):
     assert message in capsys.readouterr().err
 
 
+def test_fragility_on_floor_velocity_and_one_outputs_displacement(run, tmp_path):
+    from cphysfno_core import create
+    from cphysfno_core.config.experiment import parse_config
+
+    config = parse_config(json.loads((run / "config.json").read_text()))
+    structure = create("structure", config.structure.name, **config.structure.params)
+    data = load_dataset(run / "dataset.h5")
+    truth = edp.compute(data.targets("test"), structure, data.motions("test"))
+    roof = structure.output_names[-1]
+    pfv = float(np.median(truth["PFV"][:, 1:].max(axis=1)))
+    pd = float(np.median(truth["PD"][:, -1]))
+    states = f"pfv={pfv:.6g};pd:{roof}={pd:.6g}"
+    arguments = ["fragility", str(run), "--records", "10", "--bootstrap", "5"]
+    assert main([*arguments, "--limit-states", states, "--out", str(tmp_path)]) == 0
+    document = json.loads((tmp_path / "fragility.json").read_text())
+    fits = document["limit_states"]
+    assert list(fits) == [f"pfv > {pfv:.6g}", f"pd:{roof} > {pd:.6g}"]
+    for fit in fits.values():  # about half the test records exceed each median
+        assert 4 <= fit["simulation"]["n_exceeded"] <= 8
+
+
 def test_demands_writes_the_sample_pelicun_reads(run, capsys):
     assert main(["demands", str(run)]) == 0
     lines = (run / "demands" / "demands.csv").read_text().splitlines()
     header, units = lines[0].split(","), lines[1].split(",")
     assert header[1:5] == [f"1-PID-{s}-1" for s in range(1, 5)]
     assert "1-PFA-0-1" in header and units[header.index("1-PFA-0-1")] == "g"
+    assert "1-PFV-4-1" in header and units[header.index("1-PFV-4-1")] == "mps"
     assert len(lines) == 2 + 12
 
 

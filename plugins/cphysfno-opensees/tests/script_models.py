@@ -169,6 +169,68 @@ def hinged(folder: Path, name: str = "hinged", **units) -> Path:
     return write(folder, name, HINGED, **units)
 
 
+SPRINGS = """
+import openseespy.opensees as ops
+
+STIFFNESS = {stiffness!r}  # N/m a story
+YIELD_FORCE = {yield_force!r}  # N a story
+MASSES = {masses!r}  # kg a floor
+
+
+def build():
+    \"\"\"A shear building of zeroLength Steel01 springs, every node at the ground's
+    elevation: node 0 the ground, node s the floor over story s.\"\"\"
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for node in range(len(STIFFNESS) + 1):
+        ops.node(node, 0.0, 0.0)
+        ops.fix(node, 1 if node == 0 else 0, 1, 1)
+    for story, (k, fy, m) in enumerate(zip(STIFFNESS, YIELD_FORCE, MASSES), start=1):
+        ops.mass(story, m, 0.0, 0.0)
+        ops.uniaxialMaterial("Steel01", story, fy, k, {hardening!r})
+        ops.element("zeroLength", story, story - 1, story, "-mat", story, "-dir", 1,
+                    "-doRayleigh", {rayleigh})
+"""
+
+
+def springs(
+    folder: Path,
+    name: str = "springs",
+    *,
+    stiffness: tuple[float, ...],
+    yield_force: tuple[float, ...],
+    masses: tuple[float, ...],
+    hardening: float = 0.05,
+    rayleigh: bool = False,
+) -> Path:
+    """A zeroLength shear building's script (:data:`SPRINGS`), its floors nodes 1 .. n; its
+    springs take the stiffness part of the Rayleigh damping when ``rayleigh``."""
+    return write(
+        folder, name, SPRINGS,
+        stiffness=tuple(float(k) for k in stiffness),
+        yield_force=tuple(float(f) for f in yield_force),
+        masses=tuple(float(m) for m in masses),
+        hardening=float(hardening), rayleigh=int(rayleigh),
+    )  # fmt: skip
+
+
+def tiny_run(structure: dict):
+    """The config of a run of ``structure`` at the smallest size: 8 white-noise records of
+    3 s, ELS, a one-layer FNO trained one epoch, serial, no figures."""
+    import cphysfno_core as cp
+
+    return cp.parse_config(
+        {
+            "structure": structure,
+            "ground_motion": {"name": "white-noise", "duration": 3.0},
+            "preprocessor": [{"name": "els"}],
+            "operator": {"name": "fno", "layers": 1, "modes": 4, "width": 4},
+            "data": {"n_train": 4, "n_val": 2, "n_test": 2, "chunk_size": 8, "executor": "serial"},
+            "training": {"epochs": 1, "batch_size": 2},
+            "output": {"figures": False},
+        }
+    )
+
+
 def records(n: int = 2, n_steps: int = 401, dt: float = 0.01, peak: float = 3.0, seed: int = 1):
     """Smooth random ground accelerations (m/s^2)."""
     return smooth_random_motions(n, n_steps, dt, peak, seed, window=5)
@@ -210,17 +272,21 @@ def direct_run(
     metres_per_unit: float = 1.0,
     tolerance: float = 1e-8,
     held_gravity: str | None = None,
+    convergence=None,
 ) -> DirectRun:
     """The script analysed with OpenSeesPy alone, as one would by hand: gravity in ten
     load steps held constant (or the script's own ``held_gravity`` function, which
     analyses its loads and holds them), Rayleigh damping (mass and initial stiffness) matched to the
     eigen analysis of the gravity state in ``modes``, the record as a UniformExcitation in
-    DOF 1, Newmark's average acceleration rule, Newton, the Transformation handler.
+    DOF 1, Newmark's average acceleration rule, Newton, the Transformation handler. Every
+    step must converge, unless a convergence ladder (``ConvergenceParams``) is given:
+    the steps are then taken by ``transient.integrate`` with it.
 
     Returns:
         :class:`DirectRun`.
     """
     from cphysfno_opensees.loader import import_opensees
+    from cphysfno_opensees.transient import integrate
 
     ops = import_opensees()
     script = load(path)
@@ -249,19 +315,29 @@ def direct_run(
     ops.constraints("Transformation")
     ops.numberer("RCM")
     ops.system("BandGeneral")
-    ops.test("NormDispIncr", tolerance / metres_per_unit, 25)
+    test = ("NormDispIncr", tolerance / metres_per_unit, 25)
+    ops.test(*test)
     ops.algorithm("Newton")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
-    u, accelerations = [rest], [np.zeros(len(outputs))]
-    for _ in range(values.size - 1):
-        assert ops.analyze(1, dt) == 0
-        u.append([ops.nodeDisp(node, dof) for node, dof in outputs])
-        accelerations.append([ops.nodeAccel(node, dof) for node, dof in outputs])
+
+    def read() -> list[float]:
+        return [ops.nodeDisp(node, dof) for node, dof in outputs] + [
+            ops.nodeAccel(node, dof) for node, dof in outputs
+        ]
+
+    if convergence is None:
+        rows = [read()]
+        for _ in range(values.size - 1):
+            assert ops.analyze(1, dt) == 0
+            rows.append(read())
+    else:
+        rows = integrate(ops, values.size - 1, dt, read, test=test, convergence=convergence)
     ops.wipe()
+    u, accelerations = np.hsplit(np.asarray(rows), 2)
     along = np.array([dof == 1 for _, dof in outputs], dtype=float)
-    absolute = np.asarray(accelerations) * metres_per_unit + np.outer(acceleration, along)
-    return DirectRun((np.asarray(u) - rest) * metres_per_unit, 2.0 * np.pi / omega, absolute)
+    absolute = accelerations * metres_per_unit + np.outer(acceleration, along)
+    return DirectRun((u - rest) * metres_per_unit, 2.0 * np.pi / omega, absolute)
 
 
 def eigen_periods(path: Path, n: int, *, gravity: bool = False) -> np.ndarray:

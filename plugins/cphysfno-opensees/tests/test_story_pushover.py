@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.linalg
+import script_models as sm
 from cphysfno_physics import Stick
 from script_models import records, relative_l2
 
@@ -19,47 +20,19 @@ HARDENING = 0.02
 MASSES = np.array([2.0e4, 1.0e4])
 HEIGHTS = (3.0, 3.0)
 
-SPRINGS = """
-import openseespy.opensees as ops
-
-
-def build():
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
-    for node in (1, 2, 3):
-        ops.node(node, 0.0, 0.0)
-    ops.fix(1, 1, 1, 1)
-    ops.fix(2, 0, 1, 1)
-    ops.fix(3, 0, 1, 1)
-    for story, (k, fy, m) in enumerate(
-        zip({stiffness}, {yield_force}, {masses}), start=1
-    ):
-        ops.uniaxialMaterial("Steel01", story, fy, k, {hardening})
-        ops.element(
-            "zeroLength", story, story, story + 1, "-mat", story, "-dir", 1,
-            "-doRayleigh", {rayleigh},
-        )
-        ops.mass(story + 1, m, 0.0, 0.0)
-"""
-
-
 def springs_model(folder, rayleigh: bool, hardening: float = HARDENING):
     """The script as an ``opensees-model``; its springs take the stiffness part of the
     Rayleigh damping, or (``rayleigh`` False, zeroLength's default) do not."""
-    script = folder / f"springs_{int(rayleigh)}_{hardening}.py"
-    script.write_text(
-        SPRINGS.format(
-            stiffness=STIFFNESS.tolist(),
-            yield_force=YIELD_FORCE.tolist(),
-            masses=MASSES.tolist(),
-            hardening=hardening,
-            rayleigh=int(rayleigh),
-        )
-    )
+    script = sm.springs(
+        folder, f"springs_{int(rayleigh)}_{hardening}", stiffness=tuple(STIFFNESS),
+        yield_force=tuple(YIELD_FORCE), masses=tuple(MASSES), hardening=hardening,
+        rayleigh=rayleigh,
+    )  # fmt: skip
     return create(
         "structure",
         "opensees-model",
         script=script,
-        outputs=[[2, 1], [3, 1]],
+        outputs=[[1, 1], [2, 1]],
         story_heights=list(HEIGHTS),
     )
 

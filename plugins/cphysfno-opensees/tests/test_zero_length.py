@@ -15,34 +15,18 @@ from cphysfno_core import edp
 from cphysfno_core.app import pipeline
 from cphysfno_core.testing import check_structure
 
-SPRINGS = """
-import openseespy.opensees as ops
-
-MASS = 2.0e4  # kg a floor
-STIFFNESS = (4.0e7, 3.0e7, 2.0e7)  # N/m a story
-YIELD = 0.01  # m of drift
-
-
-def build():
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
-    for node in range(4):
-        ops.node(node, 0.0, 0.0)
-        ops.fix(node, 1 if node == 0 else 0, 1, 1)
-    for story, k in enumerate(STIFFNESS, start=1):
-        ops.mass(story, MASS, 0.0, 0.0)
-        ops.uniaxialMaterial("Steel01", story, k * YIELD, k, 0.05)
-        ops.element("zeroLength", story, story - 1, story, "-mat", story, "-dir", 1,
-                    "-doRayleigh", 1)
-"""
-
 OUTPUTS = [[1, 1], [2, 1], [3, 1]]
 
 
 @pytest.fixture(scope="module")
 def springs(tmp_path_factory):
-    path = tmp_path_factory.mktemp("springs") / "springs.py"
-    path.write_text(SPRINGS)
-    return path
+    """Three stories of Steel01 springs yielding at 0.01 m of drift, 2e4 kg floors; the
+    springs take the stiffness part of the Rayleigh damping."""
+    stiffness = (4.0e7, 3.0e7, 2.0e7)
+    return sm.springs(
+        tmp_path_factory.mktemp("springs"), stiffness=stiffness,
+        yield_force=tuple(0.01 * k for k in stiffness), masses=(2.0e4,) * 3, rayleigh=True,
+    )  # fmt: skip
 
 
 def test_the_stories_stand_on_each_other_without_heights(springs):
@@ -67,17 +51,7 @@ def test_the_stories_stand_on_each_other_without_heights(springs):
 def test_a_run_goes_end_to_end_and_fragility_asks_for_heights(springs, tmp_path, capsys):
     from cphysfno_core.app.cli import main
 
-    config = cp.parse_config(
-        {
-            "structure": {"name": "opensees-model", "script": str(springs), "outputs": OUTPUTS},
-            "ground_motion": {"name": "white-noise", "duration": 3.0},
-            "preprocessor": [{"name": "els"}],
-            "operator": {"name": "fno", "layers": 1, "modes": 4, "width": 4},
-            "data": {"n_train": 4, "n_val": 2, "n_test": 2, "chunk_size": 8, "executor": "serial"},
-            "training": {"epochs": 1, "batch_size": 2},
-            "output": {"figures": False},
-        }
-    )
+    config = sm.tiny_run({"name": "opensees-model", "script": str(springs), "outputs": OUTPUTS})
     pipeline.run(config, tmp_path)
     metrics = json.loads((tmp_path / "metrics.json").read_text())
     assert np.isnan(metrics["edp"]["heights_m"]).all()

@@ -19,7 +19,14 @@ import scipy.stats
 import torch
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from ..signals import GroundMotions, LinearSystem, Responses, Stories, StoryPushover
+from ..signals import (
+    GroundMotions,
+    LinearSystem,
+    ResponseChannel,
+    Responses,
+    Stories,
+    StoryPushover,
+)
 from ..signals.errors import CapabilityError, ConfigError, InputError
 from ..signals.intensity import SpectrumBand
 
@@ -156,6 +163,12 @@ class Structure(Component, ABC):
                 ``"coarse_simulation"``) integrates with an unconditionally stable scheme
                 on that grid and returns the response there.
         """
+
+    def response_channels(self) -> tuple[ResponseChannel, ...]:
+        """The named responses :meth:`simulate` records beside the displacements, each an
+        extra channel ``[n, T, 1]`` of its :class:`Responses` (none by default). Their
+        peaks are the EDP ``PR`` (:data:`cphysfno_core.edp.EDP_TABLE`)."""
+        return ()
 
     @abstractmethod
     def periods(self, n: int | None = None) -> np.ndarray:

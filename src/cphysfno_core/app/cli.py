@@ -429,8 +429,9 @@ def build_parser() -> argparse.ArgumentParser:
     fragility.add_argument(
         "--limit-states",
         default="pid=0.005,0.01,0.02",
-        help="thresholds, e.g. 'pid=0.005,0.01,0.02;pfa=5' (PID: the largest story drift "
-        "ratio; PFA: the largest floor acceleration, m/s^2); default %(default)s",
+        help="thresholds, e.g. 'pid=0.005,0.01,0.02;pfa=5;pd:isolator=0.3', demand[:column]"
+        "=values with demand an EDP (pid, rid: story drift ratios; pfa, m/s^2; pfv, m/s; pd, "
+        "m) and the largest over its columns unless one is named; default %(default)s",
     )
     fragility.add_argument(
         "--records", type=int, default=10_000, help="new motions drawn from the run's source"

@@ -22,6 +22,7 @@ from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
 from ..reporting.demands import PelicunDemands, write_pelicun_demands
 from ..signals import GroundMotions
+from ..signals.intensity import peak_ground_acceleration, peak_ground_velocity
 from .fragility_study import load_trained_run
 
 
@@ -57,16 +58,13 @@ def write_demand_sample(
     standing = np.flatnonzero(~collapsed & ~stopped)
     predicted = edp.compute(predict_skipping_failures(model, motions[standing])[0], structure,
                             motions[standing])  # fmt: skip
-    demands = edp.EDPs(
-        *(_spread(values, standing, motions.n_records) for values in predicted.as_dict().values()),
-        predicted.stories,
-    )
-    demands.pfa[:, 0] = np.abs(motions.acceleration).max(axis=1)  # the ground's, every record
+    demands = predicted.map(lambda values: _spread(values, standing, motions.n_records))
+    # the ground's own column, every record's
+    demands.values["PFA"][:, 0] = peak_ground_acceleration(motions.acceleration)
+    demands.values["PFV"][:, 0] = peak_ground_velocity(motions.acceleration, motions.dt)
     path = out or run / "demands" / "demands.csv"
     path.parent.mkdir(parents=True, exist_ok=True)
-    written = write_pelicun_demands(
-        path, demands.pid, demands.rid, demands.pfa, collapsed, non_converged=stopped
-    )
+    written = write_pelicun_demands(path, demands, collapsed, non_converged=stopped)
     return written, trained.label
 
 

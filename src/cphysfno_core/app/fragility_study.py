@@ -41,6 +41,7 @@ from ..model.extrapolation import EXTRAPOLATION_FACTOR, outside_training
 from ..model.prediction_files import read_motions
 from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
+from ..reporting.evaluation import simulated_edps
 from ..reporting.fragility import (
     Fragility,
     fit_lognormal,
@@ -54,9 +55,6 @@ from ..signals import GroundMotions
 from ..signals.errors import ConfigError, CphysfnoWarning, ExtrapolationWarning, InputError
 from ..signals.progress import show_progress
 
-DEMANDS = {"pid": "peak story drift ratio (largest over stories)", "pfa": "PFA, m/s^2"}
-"""The demands a limit state can be set on."""
-
 NON_CONVERGED = ("exclude", "collapse")
 """What fragility may make of a record that did not converge below the collapse."""
 
@@ -69,32 +67,51 @@ class LimitState:
     """A threshold on a demand.
 
     Attributes:
-        demand: ``"pid"`` or ``"pfa"``.
-        threshold: the value exceeded (drift ratio, or m/s^2).
+        demand: the EDP's name, lower case (``"pid"``, ``"pfa"``, ``"pfv"``, ``"pd"``,
+            ``"rid"``: :data:`~cphysfno_core.edp.EDP_TABLE`).
+        threshold: the value exceeded, in the EDP's unit (drift ratio, m/s^2, m/s, m).
+        column: the one column (story, floor, output) it applies to, or None for the
+            largest over them (the ground's own column left out).
     """
 
     demand: str
     threshold: float
+    column: str | None = None
 
     @property
     def name(self) -> str:
-        return f"{self.demand} > {self.threshold:g}"
+        where = "" if self.column is None else f":{self.column}"
+        return f"{self.demand}{where} > {self.threshold:g}"
+
+    @property
+    def needs_ratios(self) -> bool:
+        """Whether the demand is a story drift ratio (which needs story heights)."""
+        return edp.definition(self.demand).axis == "story"
 
 
 def parse_limit_states(text: str) -> list[LimitState]:
-    """``"pid=0.005,0.01;pfa=5"`` as limit states.
+    """``"pid=0.005,0.01;pfa=5;pd:isolator=0.3"`` as limit states: ``demand[:column]=
+    value[,value...]``, the demand any EDP a surrogate predicts.
 
     Raises:
-        ConfigError: an unknown demand or a threshold that is not a number > 0.
+        ConfigError: an unknown demand, a named response's peak (which no surrogate
+            predicts) or a threshold that is not a number > 0.
     """
     states = []
     for part in filter(None, (p.strip() for p in text.split(";"))):
-        demand, _, values = part.partition("=")
+        target, _, values = part.partition("=")
+        demand, _, column = target.strip().partition(":")
         demand = demand.strip().lower()
-        if demand not in DEMANDS or not values:
+        if not demand or not values:
             raise ConfigError(
-                f"limit states: '{part}' is not demand=value[,value...] with demand one of "
-                f"{', '.join(DEMANDS)} (e.g. pid=0.005,0.01,0.02)"
+                f"limit states: '{part}' is not demand[:column]=value[,value...] "
+                "(e.g. pid=0.005,0.01,0.02 or pd:isolator=0.3)"
+            )
+        what = edp.definition(demand)
+        if what.axis == "response":
+            raise ConfigError(
+                f"limit states: {what.name} ({what.title}) is simulated only; a surrogate "
+                "does not predict it, so no fragility can be fitted on it"
             )
         for value in values.split(","):
             try:
@@ -103,7 +120,7 @@ def parse_limit_states(text: str) -> list[LimitState]:
                 raise ConfigError(f"limit states: '{value}' is not a number") from None
             if not threshold > 0:
                 raise ConfigError(f"limit states: thresholds must be > 0, got {threshold}")
-            states.append(LimitState(demand, threshold))
+            states.append(LimitState(demand, threshold, column.strip() or None))
     if not states:
         raise ConfigError("limit states: give at least one, e.g. pid=0.005,0.01,0.02")
     return states
@@ -133,7 +150,8 @@ def default_model(metrics: dict[str, Any], demands: tuple[str, ...] = ("PID", "P
     def score(label: str) -> tuple[float, bool]:
         row = rows[label]
         if "validation_edp" in row:
-            medians = [v for key in demands for v in row["validation_edp"][key]["median"]]
+            errors = row["validation_edp"]
+            medians = [v for key in demands if key in errors for v in errors[key]["median"]]
             value = float(np.nanmean(medians)) if np.isfinite(medians).any() else np.inf
         else:
             value = float(np.mean(row.get("validation_rel_l2", row["rel_l2"])))
@@ -191,12 +209,25 @@ def load_trained_run(
     return TrainedRun(config, label, CompositeModel.load(folder), structure)
 
 
-def demand_values(demands: edp.EDPs, demand: str) -> np.ndarray:
-    """``[n]`` the demand of each record: the largest PID over stories or PFA over floors
-    (floor 0, the ground, left out)."""
-    if demand == "pid":
-        return np.max(demands.pid, axis=1)
-    return np.max(demands.pfa[:, 1:], axis=1)
+def demand_values(demands: edp.EDPs, state: LimitState) -> np.ndarray:
+    """``[n]`` the demand of each record that ``state`` is set on: its column's value, or
+    the largest over the columns (the ground's own left out).
+
+    Raises:
+        ConfigError: ``state.column`` is not a column of the demand (the message lists
+            them).
+    """
+    values = demands[state.demand]
+    columns = demands.columns[edp.definition(state.demand).name]
+    if state.column is not None:
+        if state.column not in columns:
+            raise ConfigError(
+                f"limit state {state.name}: '{state.column}' is not a column of "
+                f"{state.demand}; its columns are {', '.join(columns)}"
+            )
+        return values[:, columns.index(state.column)]
+    start = 1 if edp.definition(state.demand).has_ground else 0
+    return np.max(values[:, start:], axis=1)
 
 
 def run_fragility(
@@ -265,8 +296,8 @@ def run_fragility(
         trained.model,
         trained.structure,
     )
-    if any(state.demand == "pid" for state in limit_states):
-        edp.require_heights(edp.stories_of(structure), "a fragility on pid")
+    if any(state.needs_ratios for state in limit_states):
+        edp.require_heights(edp.stories_of(structure), "a fragility on story drift ratios")
     t1 = float(structure.periods(1)[0])
     im = intensity_measure(measure, t1)
     data = load_dataset(run / DATASET)
@@ -279,7 +310,9 @@ def run_fragility(
     standing = ~collapsed & ~stopped & ~failed
     counted = ~failed & (~stopped if non_converged == "exclude" else True)
     im_test = im.of(motions)
-    truth = edp.compute(data.u[rows], structure, motions)
+    truth = simulated_edps(data, rows, edp.stories_of(structure))
+    for state in limit_states:  # an unknown column is refused before any prediction
+        demand_values(truth, state)
     kept = motions[np.flatnonzero(standing)]
     responses, test_failures = predict_skipping_failures(model, kept)
     predicted = edp.compute(responses, structure, kept)
@@ -327,18 +360,18 @@ def run_fragility(
     large_ok = np.isfinite(large.demands.pid).all(axis=1)
     for state in limit_states:
         what = f"{state.name} ({measure})"
-        simulated = np.where(collapsed, True, demand_values(truth, state.demand) > state.threshold)
+        simulated = np.where(collapsed, True, demand_values(truth, state) > state.threshold)
         simulation = _fit_or_note(
             im_test[counted], simulated[counted], rng, n_bootstrap, what + ", simulation"
         )
         surrogate = _surrogate_fit(
             im_test[standing][predicted_ok],
-            demand_values(predicted, state.demand)[predicted_ok] > state.threshold,
+            demand_values(predicted, state)[predicted_ok] > state.threshold,
             collapse, grid, rng, n_bootstrap, what + ", surrogate",
         )  # fmt: skip
         large_fit = _surrogate_fit(
             large.intensity[large_ok],
-            demand_values(large.demands, state.demand)[large_ok] > state.threshold,
+            demand_values(large.demands, state)[large_ok] > state.threshold,
             collapse, grid, rng, n_bootstrap, what + ", surrogate-large",
         )  # fmt: skip
         document["limit_states"][state.name] = {
@@ -359,11 +392,14 @@ def run_fragility(
     (out / "fragility.json").write_text(json.dumps(document, indent=2) + "\n")
     axis = f"{im.description}, {im.unit}"
     plot_fragility(curves, im_test, axis, out / "fragility.png")
+    first = limit_states[0]
+    what = edp.definition(first.demand)
     plot_demand_cloud(
-        {"simulation (test)": (im_test, demand_values(truth, "pid")),
-         "surrogate (test)": (im_test[standing], demand_values(predicted, "pid")),
-         "surrogate (large)": (large.intensity, demand_values(large.demands, "pid"))},
-        axis, "peak story drift ratio", out / "edp-im.png",
+        {"simulation (test)": (im_test, demand_values(truth, first)),
+         "surrogate (test)": (im_test[standing], demand_values(predicted, first)),
+         "surrogate (large)": (large.intensity, demand_values(large.demands, first))},
+        axis, f"{what.title}{'' if first.column is None else ', ' + first.column}, {what.unit}",
+        out / "edp-im.png",
     )  # fmt: skip
     return document
 
@@ -504,12 +540,7 @@ def _large_analysis(
                 f"  fragility: {stop}/{n} records predicted ({rate:.0f} records/s, about "
                 f"{(n - stop) / rate:.0f} s left)"
             )
-    demands = edp.EDPs(
-        np.concatenate([p.pid for p in parts]),
-        np.concatenate([p.rid for p in parts]),
-        np.concatenate([p.pfa for p in parts]),
-        parts[0].stories,
-    )
+    demands = edp.EDPs.concatenate(parts)
     if extrapolated and progress:
         show_progress(
             f"  fragility: {extrapolated} of {n} records lie outside the PGA range the model "

@@ -4,7 +4,9 @@ File layout: ``ag [N, T]`` (m/s^2), ``u [N, T, n_out]`` (m), ``z/<preprocessor>
 [N, T, n_out]`` (m), ``extras/<channel> [N, T, k]`` (float32, for figures); attributes
 ``dt``, ``config`` (JSON), ``config_hash``, ``seed``, ``versions``, ``output_names``,
 ``n_train``, ``n_val``, ``n_test``, ``failures`` and ``non_converged`` (JSON: record
-index -> cause) and ``complete``. :mod:`cphysfno_core.generation` writes it.
+index -> cause), ``recoveries`` (JSON: record index -> the hardest measure its analysis
+needed to converge), ``response_channels`` (JSON: the named responses among the extras, with
+their units) and ``complete``. :mod:`cphysfno_core.generation` writes it.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import h5py
 import numpy as np
 
 from ..config.experiment import ExperimentConfig
-from ..signals import GroundMotions
+from ..signals import GroundMotions, ResponseChannel
 from ..signals.errors import DatasetError
 from ..signals.histories import ACCELERATION_EXTRA
 
@@ -49,6 +51,8 @@ class Dataset:
         non_converged: record index -> cause, for records whose analysis stopped
             converging below the collapse (a numerical failure): kept to the stop, left
             out of :meth:`rows`, listed by :meth:`non_converged_rows`.
+        response_channels: the named responses the structure recorded (each an extra
+            channel ``[N, T, 1]`` in its unit).
     """
 
     ag: np.ndarray
@@ -62,6 +66,7 @@ class Dataset:
     provenance: tuple[dict, ...] = ()
     collapsed: np.ndarray | None = None
     non_converged: dict[int, str] = field(default_factory=dict)
+    response_channels: tuple[ResponseChannel, ...] = ()
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
@@ -216,8 +221,11 @@ def array_descriptions(output_names: list[str]) -> dict[str, tuple[str, str]]:
     }
 
 
-def describe_arrays(f: h5py.File, output_names: list[str]) -> None:
-    """Give every array of the open dataset ``f`` its ``units`` and ``description``."""
+def describe_arrays(
+    f: h5py.File, output_names: list[str], channels: tuple[ResponseChannel, ...] = ()
+) -> None:
+    """Give every array of the open dataset ``f`` its ``units`` and ``description``, the
+    named responses ``channels`` theirs."""
     known = array_descriptions(output_names)
     for name in f.get("z", {}):
         known[f"z/{name}"] = (
@@ -232,6 +240,13 @@ def describe_arrays(f: h5py.File, output_names: list[str]) -> None:
             f"extra channel '{name}' of the structure's "
             "simulation [record, sample, channel], float32",
         )
+    for channel in channels:
+        known[f"extras/{channel.name}"] = (
+            channel.unit,
+            f"named response '{channel.name}' [record, sample, 1]"
+            + (f": {channel.description}" if channel.description else ""),
+        )
+    f.attrs["response_channels"] = json.dumps([c.as_dict() for c in channels])
     for path, (units, description) in known.items():
         if path in f:
             f[path].attrs["units"] = units
@@ -294,6 +309,9 @@ def load_dataset(path: str | Path) -> Dataset:
                 },
                 provenance=read_provenance(f),
                 collapsed=f["collapsed"][...] if "collapsed" in f else None,
+                response_channels=tuple(
+                    ResponseChannel(**c) for c in json.loads(f.attrs.get("response_channels", "[]"))
+                ),
             )
     except (OSError, KeyError) as error:
         raise DatasetError(f"{path} is not a cphysfno dataset: {error}") from None

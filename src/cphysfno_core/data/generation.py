@@ -11,7 +11,9 @@ configuration, generation simulates only the missing chunks. When all are there 
 assembled into the HDF5 file (again written aside and renamed), and the folder is removed:
 a dataset file at the final path is always complete. What the simulator printed for each
 record (its warnings) is shown at the end, each distinct message once with its count, and
-kept in full in ``<name>-messages.log`` beside the dataset.
+kept in full in ``<name>-messages.log`` beside the dataset; so are the records counted by
+the hardest measure their analysis needed to converge (an OpenSees structure's convergence
+ladder), kept by record in the dataset's attribute ``recoveries``.
 """
 
 from __future__ import annotations
@@ -46,10 +48,16 @@ from .datasets import (
 )
 from .executors import run_tasks
 from .messages import full_log, summary
+from .recoveries import convergence_summary
 from .simulation import ChunkResult, simulate_chunk
 from .splits import grouped_order
 
 logger = logging.getLogger(__name__)
+
+LISTED = ("failures", "non_converged", "recoveries")
+"""The chunks' records by index (JSON: record index -> text), kept as attributes of the
+dataset: the failed records and their causes, the non-converged ones and theirs, and what
+each record that needed it needed to converge."""
 
 SAMPLE_BLOCK = 256
 """Records drawn per call from a source with independent draws. Fixed, so that the records
@@ -292,9 +300,11 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     if progress and len(todo) < len(bounds):
         show_progress(f"  resuming: {len(bounds) - len(todo)} of {len(bounds)} chunks already done")
     _simulate_chunks(config, structure, motions, bounds, todo, parts, progress)
-    messages = _assemble(config, structure, motions, bounds, parts, path, identity)
+    messages, convergence = _assemble(config, structure, motions, bounds, parts, path, identity)
     shutil.rmtree(parts)
     _report_messages(messages, path, progress)
+    if progress and convergence:
+        show_progress(convergence)
     return path
 
 
@@ -358,6 +368,7 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
                 "structure (kept, flagged, left out of training)"
             )
         stopped = {start + k: cause for k, cause in result.non_converged.items()}
+        recovered = {start + k: measure for k, measure in result.recoveries.items()}
         for index, cause in stopped.items():
             if progress:
                 show_progress(
@@ -370,6 +381,7 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
             "failures": np.array(json.dumps(failures)),
             "messages": np.array(json.dumps(messages)),
             "non_converged": np.array(json.dumps(stopped)),
+            "recoveries": np.array(json.dumps(recovered)),
         }
         arrays.update({f"z/{name}": values for name, values in result.z.items()})
         arrays.update({f"extras/{name}": values for name, values in result.extras.items()})
@@ -385,15 +397,19 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
     run_tasks(simulate_chunk, todo, arguments, config.data, store)
 
 
-def _assemble(config, structure, motions, bounds, parts, path, identity) -> dict[int, str]:
+def _assemble(
+    config, structure, motions, bounds, parts, path, identity
+) -> tuple[dict[int, str], str]:
     """Copy the chunks, one at a time, into a new HDF5 file renamed into place at the end;
-    return what the simulator printed, by record."""
+    return what the simulator printed, by record, and the records counted by what they
+    needed to converge (:func:`.recoveries.convergence_summary`)."""
     shape = (motions.n_records, motions.n_steps, structure.n_outputs)
     messages: dict[int, str] = {}
+    convergence = ""
 
     def write(temporary: Path) -> None:
-        failures: dict[str, str] = {}
-        stopped: dict[str, str] = {}
+        nonlocal convergence
+        listed: dict[str, dict[str, str]] = {key: {} for key in LISTED}
         with h5py.File(temporary, "w") as f:
             f.attrs["config_hash"] = identity
             f.attrs["config"] = json.dumps(config.to_dict())
@@ -416,11 +432,8 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> dict
             for i, (start, stop) in enumerate(bounds):
                 with np.load(_chunk_path(parts, i), allow_pickle=False) as chunk:
                     for key in chunk.files:
-                        if key == "failures":
-                            failures.update(json.loads(str(chunk[key])))
-                            continue
-                        if key == "non_converged":
-                            stopped.update(json.loads(str(chunk[key])))
+                        if key in listed:
+                            listed[key].update(json.loads(str(chunk[key])))
                             continue
                         if key == "messages":
                             said = json.loads(str(chunk[key]))
@@ -430,10 +443,14 @@ def _assemble(config, structure, motions, bounds, parts, path, identity) -> dict
                         if key not in f:  # extras: float32, they serve the figures
                             f.create_dataset(key, shape=(shape[0], *values.shape[1:]), dtype="f4")
                         f[key][start:stop] = values
-            f.attrs["failures"] = json.dumps(failures)
-            f.attrs["non_converged"] = json.dumps(stopped)
-            describe_arrays(f, list(structure.output_names))
+            for key, records in listed.items():
+                f.attrs[key] = json.dumps(records)
+            complete = ~f["collapsed"][...]
+            complete[[int(i) for i in (*listed["failures"], *listed["non_converged"])]] = False
+            recoveries = {int(i): measure for i, measure in listed["recoveries"].items()}
+            convergence = convergence_summary(recoveries, complete)
+            describe_arrays(f, list(structure.output_names), structure.response_channels())
             f.attrs["complete"] = True
 
     _write_atomic(path, write)
-    return messages
+    return messages, convergence

@@ -29,6 +29,8 @@ class ChunkResult:
         non_converged: index within the chunk -> cause, for the records whose analysis
             stopped converging below the collapse (their truth holds NaN after the stop;
             not a failure, not a collapse).
+        recoveries: index within the chunk -> the hardest measure its analysis needed to
+            converge (:attr:`~cphysfno_core.Responses.recoveries`).
     """
 
     u: np.ndarray
@@ -38,6 +40,7 @@ class ChunkResult:
     collapsed: np.ndarray | None = None
     messages: dict[int, str] = field(default_factory=dict)
     non_converged: dict[int, str] = field(default_factory=dict)
+    recoveries: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
@@ -80,6 +83,7 @@ class _Parts:
             responses.collapsed,
             dict(responses.messages),
             dict(responses.non_converged),
+            dict(responses.recoveries),
         )
         for i in result.failures:
             _blank(result, i)
@@ -154,6 +158,7 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
     results: list[ChunkResult | None] = []
     failures: dict[int, str] = {}
     messages: dict[int, str] = {}
+    recoveries: dict[int, str] = {}
     for i in range(motions.n_records):
         try:
             single = parts.run(motions[i])
@@ -165,6 +170,8 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
             continue
         if 0 in single.messages:
             messages[i] = single.messages[0]
+        if 0 in single.recoveries:
+            recoveries[i] = single.recoveries[0]
         if single.failures:
             failures[i] = single.failures[0]
             results.append(None)
@@ -182,7 +189,7 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
         shape = (motions.n_records, motions.n_steps, parts.structure.n_outputs)
         nan = np.full(shape, np.nan)
         z = {name: nan.copy() for name in parts.preprocessors}
-        return ChunkResult(nan, {}, z, failures, collapsed, messages, stopped)
+        return ChunkResult(nan, {}, z, failures, collapsed, messages, stopped, recoveries)
 
     def stack(pick) -> np.ndarray:
         rows = [pick(r) if r is not None else np.full_like(pick(template), np.nan) for r in results]
@@ -196,4 +203,5 @@ def _record_by_record(parts: _Parts, motions: GroundMotions) -> ChunkResult:
         collapsed,
         messages,
         stopped,
+        recoveries,
     )

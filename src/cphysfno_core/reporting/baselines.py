@@ -27,7 +27,7 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from ..signals import GroundMotions, Stories
+from ..signals import GroundMotions
 from ..signals.errors import InputError
 from ..signals.intensity import (
     average_spectral_acceleration,
@@ -287,18 +287,21 @@ def fit_and_predict(
     train_motions: GroundMotions,
     targets: dict[str, GroundMotions],
     first_period: float,
-    stories: Stories,
 ) -> dict[str, dict[str, edp.EDPs]]:
-    """Both baselines fitted on the training records' PID (per story) and PFA (per floor
-    above the ground), predicting the records of each motion set in ``targets``.
+    """Both baselines fitted on the training records' scored EDPs (PID per story, PFA and
+    PFV per floor above the ground, PD per output: :func:`~cphysfno_core.edp.scored_names`),
+    predicting the records of each motion set in ``targets``.
 
     Returns:
         ``{label: {target name: EDPs}}`` for each label of :data:`BASELINES`; the predicted
-        EDPs have the ground's PFA of the motions themselves and NaN RID (a peak-EDP
-        regression says nothing of the residual drift).
+        EDPs have the ground's column of the motions themselves (PGA, PGV) and no RID or
+        named responses (a peak-EDP regression says nothing of them).
     """
-    n_stories = train.pid.shape[1]
-    values = np.column_stack([train.pid, train.pfa[:, 1:]])
+    keys = edp.scored_names(train)
+    starts = [1 if edp.EDP_TABLE[key].has_ground else 0 for key in keys]
+    tables = [train.values[k][:, a:] for k, a in zip(keys, starts, strict=True)]
+    values = np.column_stack(tables)
+    bounds = np.cumsum([0, *(t.shape[1] for t in tables)])
     found: dict[str, dict[str, edp.EDPs]] = {}
     for label, model, measure in (
         ("baseline-cloud", CloudRegression(), sa_t1),
@@ -308,27 +311,29 @@ def fit_and_predict(
         found[label] = {}
         for name, motions in targets.items():
             predicted = model.predict(measure(motions, first_period))
-            ground = peak_ground_acceleration(motions.acceleration)
-            found[label][name] = edp.EDPs(
-                pid=predicted[:, :n_stories],
-                rid=np.full((predicted.shape[0], n_stories), np.nan),
-                pfa=np.column_stack([ground, predicted[:, n_stories:]]),
-                stories=stories,
-            )
+            ground = {
+                "PFA": peak_ground_acceleration(motions.acceleration),
+                "PFV": peak_ground_velocity(motions.acceleration, motions.dt),
+            }
+            tables = {}
+            for i, (key, start) in enumerate(zip(keys, starts, strict=True)):
+                table = predicted[:, bounds[i] : bounds[i + 1]]
+                tables[key] = np.column_stack([ground[key], table]) if start else table
+            found[label][name] = train.with_values(tables)
     return found
 
 
 def beaten_surrogates(
     models: dict[str, dict], baseline_rows: dict[str, dict], names: dict[str, list[str]]
 ) -> list[dict]:
-    """Where a baseline beats every surrogate: for each EDP (``"PID"`` per story, ``"PFA"``
-    per floor) and location whose best baseline has a lower median test error than every
-    trained model (rows of ``models`` not labelled ``physics-*``).
+    """Where a baseline beats every surrogate: for each scored EDP (``"PID"`` per story,
+    ``"PFA"`` per floor, ...) and location whose best baseline has a lower median test
+    error than every trained model (rows of ``models`` not labelled ``physics-*``).
 
     Args:
         models: the ``models`` rows of ``metrics.json`` (with their ``edp`` errors).
         baseline_rows: the ``baselines`` rows.
-        names: the story names (``"PID"``) and floor names above the ground (``"PFA"``).
+        names: the columns each EDP is scored at (``EDPScorer.locations``).
 
     Returns:
         One ``{"edp", "location", "baseline", "baseline_error", "surrogate",

@@ -1,12 +1,15 @@
 """Demand samples for the loss assessment tool pelicun 3 (FEMA P-58).
 
-:func:`write_pelicun_demands` writes peak story drift ratios, residual story drift ratios
-and peak floor accelerations as the CSV file that pelicun's
-``DemandModel.load_sample`` reads::
+:func:`write_pelicun_demands` writes the EDPs that pelicun has a demand type for (peak and
+residual story drift ratios, peak floor accelerations and velocities, and named responses
+given one, such as an isolator's deformation ``BRD`` or a base shear) as the CSV file that
+pelicun's ``DemandModel.load_sample`` reads::
 
+    from cphysfno_core import edp
     from cphysfno_core.reporting.demands import write_pelicun_demands
 
-    written = write_pelicun_demands("demands.csv", pid, rid, pfa, collapsed=collapsed)
+    demands = edp.compute(responses, structure, motions)
+    written = write_pelicun_demands("demands.csv", demands, collapsed=collapsed)
 
     from pelicun.assessment import Assessment
 
@@ -37,7 +40,10 @@ without it.
 - Demand types are the acronyms of ``EDP_TYPES`` in ``dlml/vocabulary.py`` (the
   ``simcenter-dlml`` package pelicun depends on): ``PID`` (story drift ratio, unit type
   unitless), ``RID`` (residual interstory drift ratio, unitless), ``PFA`` (peak floor
-  acceleration, acceleration). The acceleration units of ``default_units.json`` are
+  acceleration, acceleration), ``PFV`` (peak floor velocity, speed), ``BRD`` (peak bearing
+  deformation, displacement). ``load_sample`` itself reads any type name: a base shear
+  written as ``VB`` in ``kN`` loads, in N inside pelicun. The acceleration units of
+  ``default_units.json`` are
   ``mps2`` (1, the base unit), ``inps2``/``inchps2`` (0.0254), ``ftps2`` (0.3048) and
   ``g`` (9.80665); ``unitless`` and ``rad`` both have factor 1, and pelicun labels drift
   ratios ``unitless`` when it assigns units itself (``assessment._add_units``).
@@ -91,7 +97,10 @@ from typing import Literal
 
 import numpy as np
 
+from ..signals import ResponseChannel
 from ..signals.errors import InputError
+from .edp import EDPs
+from .edp_table import EDP_TABLE, definition
 
 STANDARD_GRAVITY = 9.80665
 """m/s^2 per g: the factor of unit ``g`` in pelicun's ``settings/default_units.json``."""
@@ -143,42 +152,64 @@ class PelicunDemands:
         return self.n_collapsed / self.n_records
 
 
+PELICUN_UNITS = frozenset(
+    {"m", "mm", "cm", "km", "in", "inch", "ft", "mps", "cmps", "inps", "inchps", "ftps",
+     "mps2", "inps2", "inchps2", "ftps2", "g", "N", "kN", "lbf", "kip", "kips",
+     "Pa", "kPa", "MPa", "GPa", "psi", "ksi", "unitless", "rad"}
+)  # fmt: skip
+"""The unit names of pelicun's ``settings/default_units.json`` a demand may be written in
+(pelicun takes any other name as factor 1 without a warning)."""
+
+PFV_UNIT = "mps"
+"""pelicun's unit of the peak floor velocities written (m/s)."""
+
+
+@dataclass(frozen=True)
+class _Block:
+    """The columns of one demand type: its pelicun type, ``[n, k]`` values in the file's
+    units, their locations and units."""
+
+    name: str
+    values: np.ndarray
+    places: tuple[int, ...]
+    units: tuple[str, ...]
+
+
 def write_pelicun_demands(
     path: str | os.PathLike[str],
-    pid: np.ndarray,
-    rid: np.ndarray | None,
-    pfa: np.ndarray,
+    demands: EDPs,
     collapsed: np.ndarray | None = None,
     *,
     pfa_unit: Literal["g", "mps2"] = "g",
     collapsed_rows: Literal["error", "omit"] = "error",
     non_converged: np.ndarray | None = None,
+    include: tuple[str, ...] | None = None,
 ) -> PelicunDemands:
     """Write engineering demand parameters as a pelicun 3 demand sample (CSV).
 
     The file has a header row, a ``Units`` row, and one row per record labelled with the
-    record's index in the arrays. Its columns are ``1-PID-s-1`` and ``1-RID-s-1`` for
-    stories ``s = 1 .. n_stories`` (``unitless``), ``1-PFA-k-1`` for floor levels
-    ``k = 0 .. n_floors`` (0 the ground) in ``pfa_unit``, and, with ``collapsed`` (or
-    ``non_converged``) and ``collapsed_rows="error"``, ``1-ERROR--`` (1 for a collapsed
-    record, 2 for one whose analysis did not converge below the collapse, else 0; pelicun
-    leaves out every nonzero one). Values
-    are written with Python's shortest round-trip ``repr``; a collapsed record's values
-    that are not finite are left empty. The file replaces ``path`` in one step. See the
-    module's documentation for how pelicun reads it, and why collapse is written so.
+    record's index in the arrays. Its columns come from the EDPs that have a pelicun
+    demand type (:data:`~cphysfno_core.edp.EDP_TABLE`): ``1-PID-s-1`` and ``1-RID-s-1``
+    for stories ``s = 1 .. n_stories`` (``unitless``), ``1-PFA-k-1`` for floor levels
+    ``k = 0 .. n_floors`` (0 the ground) in ``pfa_unit``, ``1-PFV-k-1`` likewise in
+    ``mps``, and the peak of each named response that has a ``pelicun_type``
+    (``1-BRD-1-1`` for an isolator's deformation, say) at its ``pelicun_location`` in its
+    unit, which must be one of pelicun's (:data:`PELICUN_UNITS`). With ``collapsed`` (or
+    ``non_converged``) and ``collapsed_rows="error"`` a column ``1-ERROR--`` follows (1 for
+    a collapsed record, 2 for one whose analysis did not converge below the collapse, else
+    0; pelicun leaves out every nonzero one). Values are written with Python's shortest
+    round-trip ``repr``; a collapsed record's values that are not finite are left empty.
+    The file replaces ``path`` in one step. See the module's documentation for how
+    pelicun reads it, and why collapse is written so.
+
+    A building whose outputs include a level no story ends at (an isolation level under a
+    superstructure whose stories start there, say) has more floors than stories: floor
+    location ``k`` is its ``k``-th floor bottom up.
 
     Args:
         path: the CSV file to write; it must end in ``.csv`` (pelicun reads no other).
-        pid: ``[n_records, n_stories]`` peak story drift ratios (m/m, dimensionless),
-            story 1 the lowest.
-        rid: ``[n_records, n_stories]`` residual story drift ratios, or None to write none
-            (pelicun can estimate them from the peak drifts: ``DemandModel.estimate_RID``).
-        pfa: ``[n_records, 1 + n_floors]`` peak absolute floor accelerations in m/s^2,
-            column 0 the ground (the peak ground acceleration), then the floors bottom up
-            (``edp.EDPs.pfa``). For stacked stories floor ``k`` is the top of story ``k``;
-            a building whose outputs include a level no story ends at (an isolation level
-            under a superstructure whose stories start there, say) has more floors than
-            stories, and location ``k`` is its ``k``-th floor bottom up.
+        demands: the records' EDPs (:func:`cphysfno_core.edp.compute`), drift ratios for
+            stories with heights.
         collapsed: ``[n_records]`` booleans, True for a record whose structure collapsed;
             None when none did (no ``ERROR`` column is written).
         pfa_unit: ``"g"`` (the default, the unit of the FEMA P-58 fragilities: the values
@@ -191,16 +222,19 @@ def write_pelicun_demands(
         non_converged: ``[n_records]`` booleans, True for a record whose analysis stopped
             converging below the collapse (a numerical failure, not a collapse: not in the
             collapse fraction); None when none did.
+        include: the EDPs to write, by name (default: every one ``demands`` holds that
+            pelicun has a type for).
 
     Returns:
         What was written, with the number of collapsed records.
 
     Raises:
-        InputError: an array's shape does not fit the others, ``collapsed`` is not
-            boolean, a record that did not collapse has a NaN or infinite value, a value is
-            negative, there are no records or every record collapsed (pelicun then has no
-            demand to sample: give it the collapse through its collapse fragility), or
-            ``path``, ``pfa_unit`` or ``collapsed_rows`` is not one pelicun reads.
+        InputError: ``collapsed`` is not boolean or has the wrong shape, a record that did
+            not collapse has a NaN or infinite value, a value is negative, there are no
+            records or every record collapsed (pelicun then has no demand to sample: give
+            it the collapse through its collapse fragility), a named response's unit is not
+            pelicun's, or ``path``, ``pfa_unit``, ``collapsed_rows`` or ``include`` is not
+            one pelicun reads.
     """
     path = Path(path)
     if path.suffix != ".csv":
@@ -217,35 +251,19 @@ def write_pelicun_demands(
             f"pelicun demand sample: collapsed_rows={collapsed_rows!r} is neither 'error' "
             "nor 'omit'"
         )
-    pid = _as_table(pid, "pid")
-    n_records, n_stories = pid.shape
-    if n_records == 0 or n_stories == 0:
+    blocks = _blocks(demands, pfa_unit, include)
+    n_records = demands.n_records
+    if n_records == 0 or not blocks:
         raise InputError(
-            f"pelicun demand sample: pid has shape {pid.shape}; it needs at least one record "
-            "and one story"
+            f"pelicun demand sample: {n_records} records and {len(blocks)} demand types; it "
+            "needs at least one record and one demand"
         )
-    blocks = [("PID", pid, range(1, n_stories + 1), DRIFT_UNIT, 1.0)]
-    if rid is not None:
-        rid = _as_table(rid, "rid")
-        if rid.shape != pid.shape:
-            raise InputError(
-                f"pelicun demand sample: rid has shape {rid.shape}, pid {pid.shape}: both are "
-                "[n_records, n_stories]"
-            )
-        blocks.append(("RID", rid, range(1, n_stories + 1), DRIFT_UNIT, 1.0))
-    pfa = _as_table(pfa, "pfa")
-    if pfa.shape[0] != n_records or pfa.shape[1] < 2:
-        raise InputError(
-            f"pelicun demand sample: pfa has shape {pfa.shape}; with pid {pid.shape} it must "
-            f"be [{n_records}, 1 + n_floors]: the ground (column 0), then the floors bottom up"
-        )
-    blocks.append(("PFA", pfa, range(pfa.shape[1]), pfa_unit, PFA_UNITS[pfa_unit]))
     fell = _flags(collapsed, n_records, "collapsed")
     stopped = _flags(non_converged, n_records, "non_converged")
     error = np.where(fell, 1, np.where(stopped, 2, 0))
 
-    for name, values, _, _, _ in blocks:
-        _check_values(name.lower(), values, error > 0)
+    for block in blocks:
+        _check_values(block.name.lower(), block.values, error > 0)
     n_collapsed = int(fell.sum())
     if (error > 0).all():
         raise InputError(
@@ -255,13 +273,9 @@ def write_pelicun_demands(
             "collapse through its collapse fragility (collapse fraction 1) instead"
         )
 
-    columns = [
-        f"{EVENT}-{name}-{place}-{DIRECTION}"
-        for name, _, places, _, _ in blocks
-        for place in places
-    ]
-    units = [unit for _, values, _, unit, _ in blocks for _ in range(values.shape[1])]
-    table = np.concatenate([values / per_unit for _, values, _, _, per_unit in blocks], axis=1)
+    columns = [f"{EVENT}-{b.name}-{place}-{DIRECTION}" for b in blocks for place in b.places]
+    units = [unit for b in blocks for unit in b.units]
+    table = np.concatenate([b.values for b in blocks], axis=1)
     flag = (collapsed is not None or non_converged is not None) and collapsed_rows == "error"
     rows = [r for r in range(n_records) if collapsed_rows == "error" or not error[r]]
 
@@ -280,14 +294,74 @@ def write_pelicun_demands(
     return PelicunDemands(path, n_records, n_collapsed, tuple(columns), tuple(units))
 
 
-def _as_table(values: np.ndarray, name: str) -> np.ndarray:
-    table = np.asarray(values, dtype=np.float64)
-    if table.ndim != 2:
+def _blocks(demands: EDPs, pfa_unit: str, include: tuple[str, ...] | None) -> list[_Block]:
+    """The demand types to write, in :data:`EDP_TABLE` order, in the file's units."""
+    if include is not None:
+        unknown = [name for name in include if definition(name).name not in demands.values]
+        if unknown:
+            raise InputError(
+                f"pelicun demand sample: include names {', '.join(unknown)}, which these "
+                f"demands do not hold (they hold {', '.join(demands.values)})"
+            )
+        wanted = {definition(name).name for name in include}
+    else:
+        wanted = set(demands.values)
+    blocks = []
+    for key, what in EDP_TABLE.items():
+        if key not in wanted or key not in demands.values:
+            continue
+        values = demands.values[key]
+        n = values.shape[1]
+        if what.axis == "story" and what.pelicun_type is not None:
+            _check_ratios(key, demands)
+            places = tuple(range(1, n + 1))
+            blocks.append(_Block(what.pelicun_type, values, places, (DRIFT_UNIT,) * n))
+        elif key == "PFA":
+            per_unit = PFA_UNITS[pfa_unit]
+            blocks.append(_Block("PFA", values / per_unit, tuple(range(n)), (pfa_unit,) * n))
+        elif key == "PFV":
+            blocks.append(_Block("PFV", values, tuple(range(n)), (PFV_UNIT,) * n))
+        elif what.axis == "response":
+            blocks += _response_blocks(values, demands.channels)
+    return blocks
+
+
+def _check_ratios(key: str, demands: EDPs) -> None:
+    """Raise unless every story of the drift EDP ``key`` is a ratio (has a height)."""
+    missing = [
+        name
+        for name, unit in zip(demands.columns[key], demands.units[key], strict=True)
+        if unit != "m/m"
+    ]
+    if missing:
         raise InputError(
-            f"pelicun demand sample: {name} has shape {table.shape}; it must be 2-D, "
-            "[n_records, columns]"
+            f"pelicun demand sample: {', '.join(missing)} has no height, so its {key} is a "
+            "drift in m, not the ratio pelicun's fragilities need: give the structure "
+            "story_heights or drift_pairs, or leave it out with include"
         )
-    return table
+
+
+def _response_blocks(values: np.ndarray, channels: tuple[ResponseChannel, ...]) -> list[_Block]:
+    """One block per named response that has a pelicun type."""
+    found = []
+    for j, channel in enumerate(channels):
+        if channel.pelicun_type is None:
+            continue
+        if channel.unit not in PELICUN_UNITS:
+            raise InputError(
+                f"pelicun demand sample: named response '{channel.name}' is in "
+                f"'{channel.unit}', which pelicun does not know (it would read it as factor "
+                f"1): give its unit as one of {', '.join(sorted(PELICUN_UNITS))}"
+            )
+        found.append(
+            _Block(
+                channel.pelicun_type,
+                values[:, j : j + 1],
+                (channel.pelicun_location,),
+                (channel.unit,),
+            )
+        )
+    return found
 
 
 def _flags(flags: np.ndarray | None, n_records: int, name: str) -> np.ndarray:

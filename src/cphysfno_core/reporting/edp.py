@@ -1,6 +1,7 @@
 """Engineering demand parameters (EDPs) of a structure's response, the same way for every
-structure, from simulation and from prediction: peak and residual story drift ratios and
-peak absolute floor accelerations.
+structure, from simulation and from prediction: peak and residual story drift ratios,
+peak absolute floor accelerations and velocities, peak output displacements and the peaks
+of named responses, as :data:`~cphysfno_core.reporting.edp_table.EDP_TABLE` defines them.
 
 A structure declares its stories (capability ``"stories"``, see
 :class:`~cphysfno_core.signals.Stories`); :func:`compute` takes its displacement histories
@@ -12,46 +13,147 @@ such as a composite model's predicted mean) with the ground motions that caused 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..api.interfaces import Structure
-from ..signals import GroundMotions, Responses, Stories
+from ..signals import GroundMotions, ResponseChannel, Responses, Stories
 from ..signals.errors import ConfigError, InputError
 from ..signals.histories import ACCELERATION_EXTRA
+from .edp_table import (
+    EDP_TABLE,
+    EDPInputs,
+    column_names,
+    column_units,
+    definition,
+    per_metre,
+)
 
 
 @dataclass(frozen=True, eq=False)
 class EDPs:
-    """The EDPs of each record.
+    """The EDPs of each record, one ``[n_records, n_columns]`` table per EDP of
+    :data:`~cphysfno_core.reporting.edp_table.EDP_TABLE` that could be computed.
 
     Attributes:
-        pid: ``[n_records, n_stories]`` peak story drift ratio: the largest ``|drift(t)|``
-            over the record, over the story height (dimensionless, m/m).
-        rid: ``[n_records, n_stories]`` residual story drift ratio: ``|drift|`` at the end
-            of the record over the story height (see :func:`compute`). For a story without
-            height (``stories.heights_m`` nan) PID and RID are its drifts in m.
-        pfa: ``[n_records, 1 + n_floors]`` peak absolute floor acceleration in m/s^2;
-            column 0 is the ground (the peak ground acceleration), column ``j + 1`` is
-            output ``stories.floors[j]``.
+        values: EDP name -> ``[n_records, n_columns]`` values (``"PID"``, ``"RID"``,
+            ``"PFA"``, ``"PFV"``, ``"PD"``, and ``"PR"`` where named responses were
+            recorded).
         stories: the stories they are computed for.
+        columns: EDP name -> the name of each column (stories, ``ground`` and the floors,
+            outputs, named responses).
+        units: EDP name -> the unit of each column.
+        channels: the named responses whose peaks are ``"PR"``.
 
     Records whose response holds NaN (failed or collapsed ones) have NaN EDPs.
     """
 
-    pid: np.ndarray
-    rid: np.ndarray
-    pfa: np.ndarray
+    values: Mapping[str, np.ndarray]
     stories: Stories
+    columns: Mapping[str, tuple[str, ...]]
+    units: Mapping[str, tuple[str, ...]]
+    channels: tuple[ResponseChannel, ...] = ()
 
-    def as_dict(self) -> dict[str, np.ndarray]:
-        """``{"PID": pid, "RID": rid, "PFA": pfa}``."""
-        return {"PID": self.pid, "RID": self.rid, "PFA": self.pfa}
+    def __getitem__(self, name: str) -> np.ndarray:
+        """The values of the EDP ``name`` (any case).
 
-    def floor_names(self, output_names: tuple[str, ...] | list[str]) -> list[str]:
-        """Names of the columns of :attr:`pfa`: ``ground``, then the floors' output names."""
-        return ["ground", *(output_names[i] for i in self.stories.floors)]
+        Raises:
+            ConfigError: no EDP has that name, or these EDPs lack it (a named response's
+                peak of a prediction, say).
+        """
+        key = definition(name).name
+        if key not in self.values:
+            raise ConfigError(
+                f"EDP {key} ({EDP_TABLE[key].title}) was not computed for these responses: "
+                f"they have {', '.join(self.values)}"
+            )
+        return self.values[key]
+
+    @property
+    def pid(self) -> np.ndarray:
+        """``[n_records, n_stories]`` peak story drift ratio (m/m; m for a story without
+        height)."""
+        return self["PID"]
+
+    @property
+    def rid(self) -> np.ndarray:
+        """``[n_records, n_stories]`` residual story drift ratio."""
+        return self["RID"]
+
+    @property
+    def pfa(self) -> np.ndarray:
+        """``[n_records, 1 + n_floors]`` peak absolute floor acceleration in m/s^2; column 0
+        is the ground (the peak ground acceleration), column ``j + 1`` is output
+        ``stories.floors[j]``."""
+        return self["PFA"]
+
+    @property
+    def n_records(self) -> int:
+        return next(iter(self.values.values())).shape[0]
+
+    def with_values(self, values: Mapping[str, np.ndarray]) -> EDPs:
+        """These EDPs with the tables of ``values`` instead (same columns): only the EDPs
+        named there are kept."""
+        return replace(self, values={key: np.asarray(v) for key, v in values.items()})
+
+    def map(self, function: Callable[[np.ndarray], np.ndarray]) -> EDPs:
+        """``function`` applied to every table (e.g. to select or spread records)."""
+        return self.with_values({key: function(v) for key, v in self.values.items()})
+
+    @classmethod
+    def from_tables(
+        cls,
+        values: Mapping[str, np.ndarray],
+        stories: Stories,
+        *,
+        output_names: Sequence[str] | None = None,
+        channels: Sequence[ResponseChannel] = (),
+    ) -> EDPs:
+        """EDPs from their tables, the columns and units as :data:`EDP_TABLE` defines them.
+
+        Args:
+            values: EDP name -> ``[n_records, n_columns]``.
+            stories: the stories they are of.
+            output_names: the outputs' names (default ``output-1``, ...: as many as the
+                stories name).
+            channels: the named responses of ``"PR"``.
+
+        Raises:
+            ConfigError: an unknown EDP name.
+            InputError: a table that is not ``[n_records, n_columns]`` with the EDP's
+                columns, or tables of different numbers of records.
+        """
+        if output_names is None:
+            n = 1 + max(i for i in (*stories.upper, *stories.lower) if i is not None)
+            output_names = tuple(f"output-{i + 1}" for i in range(n))
+        names, channels = tuple(output_names), tuple(channels)
+        tables, columns, units = {}, {}, {}
+        for name, table in values.items():
+            what = definition(name)
+            table = np.asarray(table, dtype=np.float64)
+            columns[what.name] = column_names(what, stories, names, channels)
+            expected = len(columns[what.name])
+            if table.ndim != 2 or table.shape[1] != expected:
+                raise InputError(
+                    f"{what.name} has shape {table.shape}; it must be [n_records, {expected}]: "
+                    + ", ".join(columns[what.name])
+                )
+            tables[what.name] = table
+            units[what.name] = column_units(what, stories, expected, channels)
+        if len({t.shape[0] for t in tables.values()}) > 1:
+            shapes = ", ".join(f"{k} {t.shape}" for k, t in tables.items())
+            raise InputError(f"EDP tables of different numbers of records: {shapes}")
+        return cls(tables, stories, columns, units, channels)
+
+    @classmethod
+    def concatenate(cls, parts: Sequence[EDPs]) -> EDPs:
+        """The records of ``parts`` (EDPs of one structure) one after the other."""
+        first = parts[0]
+        return first.with_values(
+            {key: np.concatenate([p.values[key] for p in parts]) for key in first.values}
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -116,9 +218,13 @@ def compute(
     motions: GroundMotions,
     *,
     free_vibration_s: float = 0.0,
+    output_names: Sequence[str] | None = None,
+    channels: Sequence[ResponseChannel] | None = None,
 ) -> EDPs:
-    """Peak (PID) and residual (RID) story drift ratios and peak absolute floor
-    accelerations (PFA) of every record.
+    """Every EDP of :data:`~cphysfno_core.reporting.edp_table.EDP_TABLE` that the
+    responses allow, for every record: peak (PID) and residual (RID) story drift ratios,
+    peak absolute floor accelerations (PFA) and velocities (PFV), peak output
+    displacements (PD), and the peaks of the named responses (PR) the responses carry.
 
     Story ``s`` drifts by ``d_s(t) = u_upper(t) - u_lower(t)`` (``u_lower = 0`` for the
     ground), in m; ``PID_s = max_t |d_s(t)| / h_s`` (``h_s = 1`` for a story without
@@ -148,6 +254,14 @@ def compute(
     cancel in the average too). Noise in a displacement (a prediction's wiggles) of size
     ``e`` in m enters as up to ``4 e / dt^2`` m/s^2.
 
+    PFV of floor ``j`` is ``max_k |(u_j[k+1] - u_j[k-1]) / (2 dt) + v_g[k]|`` in m/s, the
+    absolute velocity, with ``v_g`` the ground's velocity from rest (the exact integral of
+    ``a_g`` linear between samples); column 0 is the peak ground velocity. The centred
+    difference is the mean velocity over ``t[k] ± dt``: a component of frequency ``f`` is
+    multiplied by ``sin(2 pi f dt) / (2 pi f dt)``, 1.5 % low at 5 Hz with ``dt = 0.01`` s.
+    PD of an output is ``max_t |u(t)|`` (m, rad for a rotation); PR of a named response
+    ``max_t |r(t)|`` in its channel's unit.
+
     Args:
         responses: displacement histories relative to the ground, ``[n, T, n_outputs]`` in
             m: :class:`Responses` (which may carry :data:`ACCELERATION_EXTRA`), or an array
@@ -157,10 +271,15 @@ def compute(
         motions: the ``[n, T]`` ground accelerations (m/s^2) on the responses' grid.
         free_vibration_s: seconds of zero ground acceleration that end every record (see
             above); 0 reads the residual drift at the last sample.
+        output_names: the outputs' names, for the columns (default: the structure's, or
+            ``output-1``, ... when ``structure`` is :class:`Stories`).
+        channels: the named responses to take the peaks of (PR), each an extra channel
+            of ``responses`` (default: the structure's :meth:`response_channels` that the
+            responses carry).
 
     Returns:
         :class:`EDPs`: ``pid`` and ``rid`` ``[n, n_stories]``, ``pfa`` ``[n, 1 + n_floors]``
-        (floor 0 the ground) in m/s^2.
+        (floor 0 the ground) in m/s^2, and the other EDPs in ``values``.
 
     Raises:
         InputError: shapes or time steps that do not match, stories naming outputs the
@@ -171,24 +290,58 @@ def compute(
     stories = stories_of(structure)
     u, acceleration = _histories(responses, motions)
     stories.check_outputs(u.shape[2])
-    window = _residual_window(motions, free_vibration_s)
-    drift = stories.drifts(u)
-    heights = _per_metre(stories)
-    pid = np.max(np.abs(drift), axis=1) / heights
-    rid = np.abs(np.mean(drift[:, window], axis=1)) / heights
-    floors = list(stories.floors)
-    ag = motions.acceleration
-    if acceleration is None:
-        relative = (u[:, 2:, floors] - 2.0 * u[:, 1:-1, floors] + u[:, :-2, floors]) / (
-            motions.dt**2
+    if output_names is None:
+        output_names = (
+            structure.output_names
+            if isinstance(structure, Structure)
+            else tuple(f"output-{i + 1}" for i in range(u.shape[2]))
         )
-        ground = (ag[:, :-2] + 4.0 * ag[:, 1:-1] + ag[:, 2:]) / 6.0
-        absolute = relative + ground[:, :, None]
-    else:
-        absolute = acceleration[:, :, floors]
-    peak_ground = np.max(np.abs(ag), axis=1)
-    pfa = np.column_stack([peak_ground, np.max(np.abs(absolute), axis=1)])
-    return EDPs(pid, rid, pfa, stories)
+    channels = _channels(responses, structure, channels)
+    inputs = EDPInputs(
+        u,
+        acceleration,
+        motions,
+        stories,
+        _residual_window(motions, free_vibration_s),
+        {c.name: _channel_history(responses, c.name, u.shape[:2]) for c in channels},
+        channels,
+    )
+    values = {name: what.peak_of(inputs) for name, what in EDP_TABLE.items()}
+    return EDPs.from_tables(
+        {k: v for k, v in values.items() if v is not None},
+        stories,
+        output_names=tuple(output_names),
+        channels=channels,
+    )
+
+
+def _channels(
+    responses: Responses | np.ndarray,
+    structure: Structure | Stories,
+    channels: Sequence[ResponseChannel] | None,
+) -> tuple[ResponseChannel, ...]:
+    """The named responses whose peaks are taken: those asked for, else the structure's
+    that the responses carry."""
+    if channels is not None:
+        return tuple(channels)
+    if not isinstance(responses, Responses) or not isinstance(structure, Structure):
+        return ()
+    return tuple(c for c in structure.response_channels() if c.name in responses.extras)
+
+
+def _channel_history(
+    responses: Responses | np.ndarray, name: str, shape: tuple[int, int]
+) -> np.ndarray:
+    """The ``[n, T]`` history of the named response ``name`` in ``responses``."""
+    extras = responses.extras if isinstance(responses, Responses) else {}
+    if name not in extras:
+        raise InputError(f"the responses carry no named response '{name}' (extra channel)")
+    values = np.asarray(extras[name], dtype=np.float64)
+    if values.shape != (*shape, 1):
+        raise InputError(
+            f"named response '{name}' has shape {values.shape}, expected {(*shape, 1)}"
+        )
+    return values[:, :, 0]
 
 
 def band_interval(
@@ -231,7 +384,7 @@ def band_interval(
     bottom_high = np.where(ground, 0.0, high[:, :, bottom_index])
     drift_low = low[:, :, top] - bottom_high
     drift_high = high[:, :, top] - bottom_low
-    heights = _per_metre(stories)
+    heights = per_metre(stories)
     pid_lower = np.max(_distance_from_zero(drift_low, drift_high), axis=1) / heights
     pid_upper = np.max(np.maximum(np.abs(drift_low), np.abs(drift_high)), axis=1) / heights
     mean_low = np.mean(drift_low[:, window], axis=1)
@@ -273,21 +426,21 @@ LOG_ERROR_QUANTILES = {"median": 0.5, "p90": 0.9}
 
 
 def log_errors(predicted: EDPs, truth: EDPs) -> dict[str, dict[str, list[float]]]:
-    """Median and 90th percentile over records of ``|ln(predicted / true)|`` of PID per
-    story and of PFA per floor above the ground (the ground's PFA is the record's own).
+    """Median and 90th percentile over records of ``|ln(predicted / true)|`` of every
+    scored EDP both hold (``EDPDefinition.scored``: PID per story, PFA and PFV per floor
+    above the ground, whose ground column is the record's own, PD per output).
 
-    Records where either value is NaN or not > 0 are left out of that story's or floor's
-    quantiles (NaN if none is left).
+    Records where either value is NaN or not > 0 are left out of that column's quantiles
+    (NaN if none is left).
 
     Returns:
         ``{"PID": {"median": [n_stories], "p90": [n_stories]}, "PFA": {"median":
-        [n_floors], "p90": [n_floors]}}``; 0.1 is about a 10 % error.
+        [n_floors], "p90": [n_floors]}, ...}``; 0.1 is about a 10 % error.
     """
     found = {}
-    for key, pred, true in (
-        ("PID", predicted.pid, truth.pid),
-        ("PFA", predicted.pfa[:, 1:], truth.pfa[:, 1:]),
-    ):
+    for key in scored_names(predicted, truth):
+        start = 1 if EDP_TABLE[key].has_ground else 0
+        pred, true = predicted.values[key][:, start:], truth.values[key][:, start:]
         if pred.shape != true.shape:
             raise InputError(f"predicted {key} {pred.shape} and true {true.shape} differ")
         valid = np.isfinite(pred) & np.isfinite(true) & (pred > 0) & (true > 0)
@@ -300,11 +453,20 @@ def log_errors(predicted: EDPs, truth: EDPs) -> dict[str, dict[str, list[float]]
     return found
 
 
-def _per_metre(stories: Stories) -> np.ndarray:
-    """``[n_stories]`` what a drift (m) is divided by: the height in m, or 1 for a story
-    without height (whose "ratio" is then its drift in m)."""
-    heights = np.asarray(stories.heights_m, dtype=np.float64)
-    return np.where(np.isnan(heights), 1.0, heights)
+def scored_names(*edps: EDPs) -> list[str]:
+    """The scored EDPs (:data:`EDP_TABLE` order) that every one of ``edps`` holds."""
+    return [
+        key for key, what in EDP_TABLE.items() if what.scored and all(key in e.values for e in edps)
+    ]
+
+
+def scored_columns(edps: EDPs) -> dict[str, list[str]]:
+    """The columns :func:`log_errors` scores of each scored EDP of ``edps``: stories,
+    floors above the ground, outputs."""
+    return {
+        key: list(edps.columns[key][1 if EDP_TABLE[key].has_ground else 0 :])
+        for key in scored_names(edps)
+    }
 
 
 def require_heights(stories: Stories, what: str) -> None:

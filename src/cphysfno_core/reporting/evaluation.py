@@ -97,12 +97,17 @@ def edp_interval_scores(
 
 def simulated_edps(data: Dataset, rows: np.ndarray, stories: Stories) -> edp.EDPs:
     """The EDPs of the simulated records ``rows`` of ``data`` (PFA from the absolute
-    acceleration channel where the dataset has one)."""
-    extras = {}
-    if edp.ACCELERATION_EXTRA in data.extras:
-        extras[edp.ACCELERATION_EXTRA] = data.extras[edp.ACCELERATION_EXTRA][rows]
+    acceleration channel where the dataset has one; PR of its named responses)."""
+    kept = [edp.ACCELERATION_EXTRA, *(c.name for c in data.response_channels)]
+    extras = {name: data.extras[name][rows] for name in kept if name in data.extras}
     motions = GroundMotions(data.ag[rows], data.dt)
-    return edp.compute(Responses(data.u[rows], data.dt, extras=extras), stories, motions)
+    return edp.compute(
+        Responses(data.u[rows], data.dt, extras=extras),
+        stories,
+        motions,
+        output_names=data.output_names,
+        channels=data.response_channels,
+    )
 
 
 class EDPScorer:
@@ -143,7 +148,10 @@ class EDPScorer:
         ``"displacement"``)."""
         if self.truth is None:
             return {}
-        predicted = edp.compute(displacement, self.stories, self.motions["test"])
+        names = self.output_names
+        predicted = edp.compute(
+            displacement, self.stories, self.motions["test"], output_names=names
+        )
         self.predicted[label] = predicted
         learned = isinstance(displacement, Responses) and edp.ACCELERATION_EXTRA in (
             displacement.extras
@@ -153,7 +161,9 @@ class EDPScorer:
             "pfa_from": "predicted acceleration" if learned else "displacement",
         }
         if validation is not None:
-            on_validation = edp.compute(validation, self.stories, self.motions["val"])
+            on_validation = edp.compute(
+                validation, self.stories, self.motions["val"], output_names=names
+            )
             found["validation_edp"] = edp.log_errors(on_validation, self.validation_truth)
         return found
 
@@ -166,7 +176,7 @@ class EDPScorer:
         train = simulated_edps(self.data, self.train_rows, self.stories)
         train_motions = GroundMotions(self.data.ag[self.train_rows], self.data.dt)
         fitted = baselines.fit_and_predict(
-            train, train_motions, self.motions, first_period, self.stories
+            train, train_motions, self.motions, first_period
         )
         rows = {}
         for label, predicted in fitted.items():
@@ -179,11 +189,10 @@ class EDPScorer:
         return rows
 
     def locations(self) -> dict[str, list[str]]:
-        """The story names (``"PID"``) and the floor names above the ground (``"PFA"``)."""
-        return {
-            "PID": list(self.stories.names),
-            "PFA": self.truth.floor_names(self.output_names)[1:],
-        }
+        """The columns each scored EDP is scored at (:func:`~cphysfno_core.edp.scored_columns`:
+        stories for ``"PID"``, floors above the ground for ``"PFA"`` and ``"PFV"``, outputs
+        for ``"PD"``)."""
+        return edp.scored_columns(self.truth)
 
     def describe(self) -> dict[str, Any] | None:
         """What the ``edp`` entries of ``metrics.json`` are computed over."""
@@ -192,11 +201,29 @@ class EDPScorer:
         return {
             "stories": list(self.stories.names),
             "heights_m": list(self.stories.heights_m),
-            "floors": self.truth.floor_names(self.output_names),
+            "floors": list(self.truth.columns["PFA"]),
             "true_pfa_from": self.pfa_from,
+            "edps": {
+                key: {
+                    "title": what.title,
+                    "unit": what.unit,
+                    "method": what.method,
+                    "scored_at": self.locations().get(key, []),
+                }
+                for key, what in edp.EDP_TABLE.items()
+                if key in self.truth.values
+            },
+            "not_scored": {
+                key: {
+                    "columns": list(self.truth.columns[key]),
+                    "units": list(self.truth.units[key]),
+                }
+                for key in self.truth.values
+                if not edp.EDP_TABLE[key].scored
+            },
             "errors": "|ln(predicted / simulated)| over the test records (edp) and the "
-            "validation records (validation_edp): median and p90 per story (PID) and per "
-            "floor above the ground (PFA)",
-            "baselines": "fitted on the simulated PID and PFA of the training records the "
+            "validation records (validation_edp): median and p90 at each column an EDP is "
+            "scored at (edps: scored_at)",
+            "baselines": "fitted on the simulated scored EDPs of the training records the "
             "models learn from",
         }

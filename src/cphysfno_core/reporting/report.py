@@ -12,7 +12,7 @@ from ..config.experiment import ExperimentConfig
 from ..data.datasets import SPLITS
 from ..data.layout import MODELS
 from ..signals.intensity import SpectrumBand
-from . import figures
+from . import edp, figures
 from .against_physics import describe_shortfalls
 from .baselines import describe_beaten
 from .edp import ACCELERATION_EXTRA
@@ -322,8 +322,6 @@ def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
             "accelerations are computed."
         ]
     models = {k: v for k, v in evaluation.metrics.items() if "edp" in v}
-    stories = list(truth.stories.names)
-    floors = truth.floor_names(list(evaluation.data.output_names))[1:]
     source = (
         "Simulated PFA is read from the structure's absolute acceleration channel; predicted PFA"
         if evaluation.data.extras.get(ACCELERATION_EXTRA) is not None
@@ -346,22 +344,20 @@ def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
     median_pid = ", ".join(f"{100 * v:.3g}" for v in np.nanmedian(truth.pid, axis=0))
     median_pfa = ", ".join(f"{v:.3g}" for v in np.nanmedian(truth.pfa[:, 1:], axis=0))
     lines += [
-        f"|ln(predicted / simulated)| over the {truth.pid.shape[0]} test records, median "
-        "(90th percentile), of the peak story drift ratio (PID) per story and of the peak "
-        "absolute floor acceleration (PFA) per floor above the ground; 0.10 is about a "
-        f"10 % error. {source} computed from displacement by a centred second difference "
-        "(`cphysfno_core.edp.compute`), which turns wiggles of e m in a predicted history "
-        "into up to 4 e / dt² m/s².",
+        f"|ln(predicted / simulated)| over the {truth.n_records} test records, median "
+        "(90th percentile), of each EDP at each story, floor above the ground or output; "
+        f"0.10 is about a 10 % error. {source} computed from displacement by a centred "
+        "second difference (`cphysfno_core.edp.compute`), which turns wiggles of e m in a "
+        "predicted history into up to 4 e / dt² m/s².",
         "",
         f"Simulated median PID per story: {median_pid} %; median PFA per floor: {median_pfa} m/s².",
-        "",
-        "### Peak story drift ratio",
-        "",
     ]
     rows = {**models, **evaluation.baselines}
-    lines += _edp_table(rows, "PID", stories)
-    lines += ["", "### Peak floor acceleration", ""]
-    lines += _edp_table(rows, "PFA", floors)
+    for key, names in edp.scored_columns(truth).items():
+        what = edp.EDP_TABLE[key]
+        lines += ["", f"### {what.title[0].upper()}{what.title[1:]} ({key}, {what.unit})", ""]
+        lines += _edp_table(rows, key, names)
+    lines += _simulated_only_lines(truth)
     lines += _baseline_lines(evaluation)
     refined = {k: v for k, v in models.items() if "edp_coverage_68" in v}
     if refined:
@@ -403,9 +399,28 @@ def _baseline_lines(evaluation: Evaluation) -> list[str]:
     return lines
 
 
+def _simulated_only_lines(truth: edp.EDPs) -> list[str]:
+    """The median simulated peak of each named response (EDP ``PR``), which no surrogate
+    predicts."""
+    if "PR" not in truth.values:
+        return []
+    medians = np.nanmedian(truth["PR"], axis=0)
+    cells = [
+        f"{name} {value:.4g} {unit}"
+        for name, value, unit in zip(truth.columns["PR"], medians, truth.units["PR"], strict=True)
+    ]
+    return [
+        "",
+        "Named responses, simulated median peak over the test records (not predicted by the "
+        "surrogates): " + ", ".join(cells) + ".",
+    ]
+
+
 def _edp_table(models: dict[str, dict], key: str, names: list[str]) -> list[str]:
     lines = ["| model | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
     for label, row in models.items():
+        if key not in row["edp"]:
+            continue
         errors = row["edp"][key]
         cells = [f"{m:.3f} ({p:.3f})" for m, p in zip(errors["median"], errors["p90"], strict=True)]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")

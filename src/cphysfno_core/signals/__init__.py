@@ -24,6 +24,7 @@ from .errors import (
 from .histories import (
     GroundMotions,
     Record,
+    ResponseChannel,
     Responses,
     TimeGrid,
     as_ground_motions,
@@ -70,6 +71,7 @@ __all__ = [
     "Record",
     "RegistryError",
     "ResponseSpectrum",
+    "ResponseChannel",
     "Responses",
     "SpectrumBand",
     "Stories",

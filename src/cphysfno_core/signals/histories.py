@@ -160,6 +160,39 @@ the absolute (total) acceleration of each output, ``[n, T, n_outputs]`` in m/s^2
 
 
 @dataclass(frozen=True)
+class ResponseChannel:
+    """A named response a structure records beside its displacements (a reaction, an
+    element force, a deformation): the extra channel ``Responses.extras[name]``,
+    ``[n_records, n_steps, 1]`` in ``unit``.
+
+    Attributes:
+        name: the channel's name (also the column of its peak in the EDP tables).
+        unit: the unit its values are in, as the user stated it (``"kN"``, ``"m"``).
+        description: what it is, in words.
+        pelicun_type: the demand type its peak is written as in a pelicun demand sample
+            (``"BRD"`` for a bearing's deformation, any acronym for another), or None to
+            leave it out of the sample.
+        pelicun_location: the location of that demand (pelicun's ``TYPE-LOC-DIR``).
+    """
+
+    name: str
+    unit: str
+    description: str = ""
+    pelicun_type: str | None = None
+    pelicun_location: int = 1
+
+    def as_dict(self) -> dict[str, Any]:
+        """The channel as JSON-ready values (the inverse of ``ResponseChannel(**d)``)."""
+        return {
+            "name": self.name,
+            "unit": self.unit,
+            "description": self.description,
+            "pelicun_type": self.pelicun_type,
+            "pelicun_location": self.pelicun_location,
+        }
+
+
+@dataclass(frozen=True)
 class Responses:
     """Structural response histories on one uniform time grid.
 
@@ -189,6 +222,10 @@ class Responses:
             and NaN after it; they are not ``collapsed``, datasets keep them listed,
             training and error tables leave them out, and fragility treats them as the
             user chooses.
+        recoveries: record index -> the hardest measure its analysis needed to converge,
+            in words (an OpenSees structure's convergence ladder: ``"substeps dt/4"``,
+            ``"KrylovNewton"``, ``"a looser test"``), for the records that needed one;
+            data generation counts the records by it and the dataset keeps it.
     """
 
     displacement: np.ndarray
@@ -198,6 +235,7 @@ class Responses:
     collapsed: np.ndarray | None = None
     messages: Mapping[int, str] = field(default_factory=dict)
     non_converged: Mapping[int, str] = field(default_factory=dict)
+    recoveries: Mapping[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         u = np.asarray(self.displacement, dtype=np.float64)
@@ -208,21 +246,8 @@ class Responses:
         object.__setattr__(self, "displacement", u)
         object.__setattr__(self, "dt", check_time_step(self.dt))
         object.__setattr__(self, "extras", dict(self.extras))
-        failures = {int(i): str(why) for i, why in dict(self.failures).items()}
-        outside = [i for i in failures if not 0 <= i < u.shape[0]]
-        if outside:
-            raise InputError(f"failures name records {outside} outside 0..{u.shape[0] - 1}")
-        object.__setattr__(self, "failures", failures)
-        messages = {int(i): str(text) for i, text in dict(self.messages).items()}
-        outside = [i for i in messages if not 0 <= i < u.shape[0]]
-        if outside:
-            raise InputError(f"messages name records {outside} outside 0..{u.shape[0] - 1}")
-        object.__setattr__(self, "messages", messages)
-        stopped = {int(i): str(why) for i, why in dict(self.non_converged).items()}
-        outside = [i for i in stopped if not 0 <= i < u.shape[0]]
-        if outside:
-            raise InputError(f"non_converged names records {outside} outside 0..{u.shape[0] - 1}")
-        object.__setattr__(self, "non_converged", stopped)
+        for name in ("failures", "messages", "non_converged", "recoveries"):
+            object.__setattr__(self, name, _by_record(getattr(self, name), name, u.shape[0]))
         if self.collapsed is None:
             collapsed = np.zeros(u.shape[0], dtype=bool)
         else:
@@ -238,6 +263,16 @@ class Responses:
     def time(self) -> np.ndarray:
         """``[n_steps]`` sample times in s."""
         return np.arange(self.displacement.shape[1]) * self.dt
+
+
+def _by_record(texts: Mapping[int, str], what: str, n_records: int) -> dict[int, str]:
+    """``texts`` (record index -> text) as a plain dict, every index checked to be one of
+    the ``n_records`` records."""
+    checked = {int(i): str(text) for i, text in dict(texts).items()}
+    outside = [i for i in checked if not 0 <= i < n_records]
+    if outside:
+        raise InputError(f"{what} names records {outside} outside 0..{n_records - 1}")
+    return checked
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,8 @@ with no OpenSees model, is retired after a number of records, and is replaced wh
 dies; a record whose worker dies is reported as failed and the others go on. A record
 whose analysis does not converge collapsed the structure: it comes back with its history
 up to the step that failed. What OpenSees prints while a record is analysed comes back
-with it instead of reaching the terminal.
+with it instead of reaching the terminal, and so does the hardest rung of the convergence
+ladder its analysis needed.
 
 Workers are forked from a fork server (``multiprocessing`` start method ``forkserver``,
 where the platform has it, ``spawn`` elsewhere) that has imported this module and so the
@@ -35,7 +36,7 @@ import numpy as np
 from cphysfno_core import CphysfnoError, InputError, PluginError, check_main_guard
 
 from .messages import recording
-from .transient import AnalysisFailed
+from .transient import AnalysisFailed, counting
 
 logger = logging.getLogger(__name__)
 
@@ -56,6 +57,9 @@ class RecordRuns:
             (``"did not converge at t = 12.34 s after ..."``).
         messages: record index -> what OpenSees printed while analysing it, for the
             records it printed anything for.
+        recoveries: record index -> the hardest rung of the convergence ladder its
+            analysis needed (:attr:`~cphysfno_opensees.transient.Recovery.hardest`), for
+            the records that needed one.
     """
 
     displacement: np.ndarray
@@ -63,6 +67,7 @@ class RecordRuns:
     collapsed: np.ndarray
     collapse_causes: dict[int, str]
     messages: dict[int, str]
+    recoveries: dict[int, str]
 
 
 def run_records(
@@ -95,7 +100,8 @@ def run_records(
 
     Returns:
         :class:`RecordRuns`: the responses, the failed records (a worker died), the
-        collapsed ones and what OpenSees printed for each record.
+        collapsed ones, what OpenSees printed for each record and the hardest rung of the
+        convergence ladder each needed.
 
     Raises:
         InputError: ``acceleration`` is not ``[n, T]``, or ``workers`` or
@@ -123,6 +129,7 @@ def run_records(
     collapsed = np.zeros(n, dtype=bool)
     causes: dict[int, str] = {}
     messages: dict[int, str] = {}
+    recoveries: dict[int, str] = {}
     todo = list(range(n - 1, -1, -1))
     pool: list[_Worker] = []
     context = _context()
@@ -140,9 +147,11 @@ def run_records(
             for worker in pool:
                 if todo and worker.busy is None:
                     worker.send(todo.pop(), acceleration)
-            for index, outcome, said in _collect(pool):
+            for index, outcome, said, hardest in _collect(pool):
                 if said:
                     messages[index] = said
+                if hardest:
+                    recoveries[index] = hardest
                 if isinstance(outcome, np.ndarray):
                     _check_shape(outcome, (n_steps, n_outputs))
                     u[index] = outcome
@@ -159,7 +168,12 @@ def run_records(
         for worker in pool:
             worker.stop()
     return RecordRuns(
-        u, dict(sorted(failures.items())), collapsed, dict(sorted(causes.items())), messages
+        u,
+        dict(sorted(failures.items())),
+        collapsed,
+        dict(sorted(causes.items())),
+        messages,
+        dict(sorted(recoveries.items())),
     )
 
 
@@ -286,9 +300,12 @@ class _Worker:
         self.connection.close()
 
 
-def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | _Collapse | str, str]]:
-    """Wait until at least one busy worker answers or dies; each such record's outcome
-    and what OpenSees printed while it was analysed.
+def _collect(
+    pool: list[_Worker],
+) -> list[tuple[int, np.ndarray | _Collapse | str, str, str | None]]:
+    """Wait until at least one busy worker answers or dies; each such record's outcome,
+    what OpenSees printed while it was analysed and the hardest rung of the convergence
+    ladder it needed (None: none, or its worker died).
 
     Each such worker becomes idle (a dead one is then replaced by the caller).
     """
@@ -300,10 +317,10 @@ def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | _Collapse | st
     for worker in busy:
         if worker.connection not in ready and worker.process.sentinel not in ready:
             continue
-        index, outcome, said = worker.busy, None, ""
+        index, outcome, said, hardest = worker.busy, None, "", None
         if worker.connection.poll():
             try:
-                index, outcome, said = worker.connection.recv()
+                index, outcome, said, hardest = worker.connection.recv()
             except (EOFError, OSError):
                 pass
         if outcome is None:
@@ -313,7 +330,7 @@ def _collect(pool: list[_Worker]) -> list[tuple[int, np.ndarray | _Collapse | st
         if isinstance(outcome, _Bug):
             raise PluginError(f"analysis of record {index} raised:\n{outcome.text}")
         worker.busy = None
-        outcomes.append((index, outcome, said))
+        outcomes.append((index, outcome, said, hardest))
     return outcomes
 
 
@@ -366,7 +383,9 @@ def _context() -> multiprocessing.context.BaseContext:
 
 
 def _serve(connection: Connection, analyse: bytes, dt: float, path: list[str]) -> None:
-    """Worker loop: analyse each ``(index, a_g)`` received until ``None`` arrives.
+    """Worker loop: analyse each ``(index, a_g)`` received until ``None`` arrives, and
+    send back ``(index, outcome, what OpenSees printed, the hardest rung of the
+    convergence ladder)``.
 
     ``analyse`` is the pickled analysis function, unpickled once ``sys.path`` is the
     caller's ``path``.
@@ -381,7 +400,7 @@ def _serve(connection: Connection, analyse: bytes, dt: float, path: list[str]) -
         if task is None:
             return
         index, record = task
-        with recording() as said:
+        with recording() as said, counting() as recovery:
             try:
                 outcome: np.ndarray | _Collapse | _Bug = np.asarray(
                     analyse(record, dt), dtype=np.float64
@@ -393,7 +412,7 @@ def _serve(connection: Connection, analyse: bytes, dt: float, path: list[str]) -
                 )
             except Exception:  # noqa: BLE001 - sent to the parent, which raises it
                 outcome = _Bug(traceback.format_exc())
-        connection.send((index, outcome, said.getvalue()))
+        connection.send((index, outcome, said.getvalue(), recovery.hardest))
 
 
 class _Progress:

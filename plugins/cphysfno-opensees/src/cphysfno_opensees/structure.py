@@ -23,13 +23,15 @@ from cphysfno_core import (
     edp,
 )
 
+from .convergence import ConvergenceParams
 from .runner import run_records
 
 logger = logging.getLogger(__name__)
 
 
 class OpenSeesParams(Params):
-    """Parameters every OpenSees structure has: how its records are run."""
+    """Parameters every OpenSees structure has: how its records are run, and the
+    convergence ladder of their transient analyses."""
 
     workers: int = Field(1, ge=1, description="worker processes analysing records in parallel")
     records_per_worker: int = Field(
@@ -40,6 +42,11 @@ class OpenSeesParams(Params):
         gt=0.0,
         description="story drift ratio past which a record collapsed the structure (for a "
         "structure with stories); None: only an analysis that stops converging is a collapse",
+    )
+    convergence: ConvergenceParams = Field(
+        default_factory=ConvergenceParams,
+        description="what a step that does not converge tries, in order: substeps, other "
+        "algorithms, a looser test",
     )
 
 
@@ -56,7 +63,8 @@ class OpenSeesStructure(Structure):
       analysis stops converging below it did not converge (``Responses.non_converged``;
       a collapse where there is no drift criterion), and one whose worker dies comes back
       as NaN rows named in ``Responses.failures``; what OpenSees printed comes back in
-      ``Responses.messages``;
+      ``Responses.messages``, and the hardest rung of the convergence ladder
+      (``convergence``) each record needed in ``Responses.recoveries``;
     - the ``coarse_simulation`` capability: ``simulate(motions, dt=coarse)`` resamples the
       motion onto the coarse grid (linear between samples) and analyses it there, which
       the subclass's implicit, unconditionally stable integrator must allow;
@@ -72,12 +80,15 @@ class OpenSeesStructure(Structure):
     @abstractmethod
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
         """A picklable ``analyse(a_g [T] m/s^2, dt s) -> [T, n_outputs]`` (m) that builds
-        the model in the calling process and raises
-        :class:`~cphysfno_opensees.transient.AnalysisFailed` when it does not converge.
+        the model in the calling process, steps it with
+        :func:`~cphysfno_opensees.transient.integrate` and the ladder ``convergence`` of
+        the parameters, and raises :class:`~cphysfno_opensees.transient.AnalysisFailed`
+        when it does not converge.
 
         A structure whose :meth:`ground_influence` is not None returns ``[T, 2
         n_outputs]`` instead: the displacements, then the outputs' accelerations relative
-        to the ground as OpenSees computes them (``nodeAccel``; m/s^2, rad/s^2)."""
+        to the ground as OpenSees computes them (``nodeAccel``; m/s^2, rad/s^2). The
+        values of its :meth:`response_channels`, if any, follow, one column each."""
 
     def ground_influence(self) -> np.ndarray | None:
         """``[n_outputs]`` how much of the ground acceleration each output takes on (1 for
@@ -98,7 +109,9 @@ class OpenSeesStructure(Structure):
             structure whose analysis records accelerations (:meth:`ground_influence`) the
             absolute accelerations of the outputs as the extra ``absolute_acceleration``
             (``[n, T', n_outputs]``, m/s^2: OpenSees' relative ``nodeAccel`` plus the
-            ground's share, NaN where the displacement is). Each record has one of three
+            ground's share, NaN where the displacement is), and each of its
+            :meth:`response_channels` as the extra of its name (``[n, T', 1]``, NaN where
+            the displacement is). Each record has one of three
             outcomes. *Complete*. *Collapsed* (``collapsed``): a story's drift ratio passed
             ``collapse_drift`` (its history up to the first sample past the limit, NaN
             after), or, for a structure without that criterion (``collapse_drift`` None,
@@ -110,7 +123,8 @@ class OpenSeesStructure(Structure):
             record's metadata, where the motions have some: ``did not converge at t =
             7.31 s after ... (rsn = 953, scale = 1.4)``. A record whose worker died is NaN
             throughout and named in ``failures``. ``messages`` holds what OpenSees printed
-            for each record.
+            for each record, ``recoveries`` the hardest rung of the convergence ladder each
+            record that needed one climbed to (``"substeps dt/4"``).
 
         Raises:
             InputError: ``motions`` is not a GroundMotions, or ``dt`` is not a time step at
@@ -131,7 +145,9 @@ class OpenSeesStructure(Structure):
             motions = motions.resample(dt)
         moving = np.flatnonzero(np.any(motions.acceleration != 0.0, axis=1))
         influence = self.ground_influence()
-        columns = self.n_outputs * (1 if influence is None else 2)
+        channels = self.response_channels()
+        kinematic = self.n_outputs * (1 if influence is None else 2)
+        columns = kinematic + len(channels)
         recorded = np.zeros((motions.n_records, motions.n_steps, columns))
         collapsed = np.zeros(motions.n_records, dtype=bool)
         runs = run_records(
@@ -165,9 +181,13 @@ class OpenSeesStructure(Structure):
             )
         extras = {}
         if influence is not None:
-            relative = recorded[:, :, self.n_outputs :]
+            relative = recorded[:, :, self.n_outputs : kinematic]
             absolute = relative + motions.acceleration[:, :, None] * influence
             extras[edp.ACCELERATION_EXTRA] = np.where(np.isnan(u), np.nan, absolute)
+        stopped_rows = np.isnan(u).any(axis=2, keepdims=True)
+        for j, channel in enumerate(channels):
+            values = recorded[:, :, kinematic + j : kinematic + j + 1]
+            extras[channel.name] = np.where(stopped_rows, np.nan, values)
         for index, cause in sorted(causes.items()):
             described = _with_metadata(cause, motions.metadata, index)
             logger.info("%s: record %d collapsed the structure: %s", self.name, index, described)
@@ -178,6 +198,7 @@ class OpenSeesStructure(Structure):
             for i, cause in runs.failures.items()
         }
         messages = {int(moving[i]): text for i, text in runs.messages.items()}
+        recoveries = {int(moving[i]): rung for i, rung in runs.recoveries.items()}
         return Responses(
             np.ascontiguousarray(u),
             motions.dt,
@@ -186,6 +207,7 @@ class OpenSeesStructure(Structure):
             collapsed=collapsed,
             messages=messages,
             non_converged=non_converged,
+            recoveries=recoveries,
         )
 
     def _drift_collapses(

@@ -1,29 +1,60 @@
 """Step an OpenSees transient analysis, recovering from steps that do not converge.
 
-A step that fails with the caller's solution algorithm is tried again with a ladder of
-algorithms, then with the step split into 2, 4 and 8 substeps (each substep again trying
-the whole ladder); after every step the caller's algorithm is restored. OpenSees reverts
-the domain to its last committed state when a step fails, so a retry starts from where the
-failed attempt did.
+A step that fails with the caller's algorithm and test climbs the convergence ladder of
+:class:`~cphysfno_opensees.convergence.ConvergenceParams` (substeps, other algorithms, a
+looser test); after a recovered step the caller's algorithm and test are set again.
+OpenSees reverts the domain to its last committed state when a step fails, so a retry
+starts from where the failed attempt did. The steps each rung completed are counted in
+the :class:`Recovery` of :func:`counting`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections import Counter
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-LADDER: tuple[tuple[Any, ...], ...] = (
-    ("Newton",),
-    ("NewtonLineSearch",),
-    ("KrylovNewton",),
-    ("ModifiedNewton",),
-)
-"""Algorithms tried, in order, on a step that did not converge (``ops.algorithm`` args)."""
+from .convergence import ConvergenceParams, Rung
 
-SPLITS = (2, 4, 8)
-"""Substeps a failed step is split into, in order, once the ladder fails at the full step."""
+LADDER = ConvergenceParams()
+"""The default convergence ladder."""
+
+
+@dataclass
+class Recovery:
+    """The steps that needed the convergence ladder, counted by the rung that completed
+    them.
+
+    Attributes:
+        steps: rung -> steps it completed.
+    """
+
+    steps: Counter[Rung] = field(default_factory=Counter)
+
+    @property
+    def hardest(self) -> str | None:
+        """The highest rung any step needed, in words; None where none needed one."""
+        return max(self.steps, key=lambda rung: rung.rank).words if self.steps else None
+
+
+_RECOVERY: ContextVar[Recovery | None] = ContextVar("recovery", default=None)
+
+
+@contextmanager
+def counting() -> Iterator[Recovery]:
+    """A :class:`Recovery` that counts the recovered steps of every :func:`integrate`
+    called within the block (e.g. those of one record's analysis)."""
+    recovery = Recovery()
+    token = _RECOVERY.set(recovery)
+    try:
+        yield recovery
+    finally:
+        _RECOVERY.reset(token)
 
 
 class Abandoned(Exception):
@@ -66,6 +97,8 @@ def integrate(
     read: Callable[[], Sequence[float]],
     *,
     algorithm: Sequence[Any] = ("Newton",),
+    test: Sequence[Any] | None = None,
+    convergence: ConvergenceParams = LADDER,
     abandon: Callable[[np.ndarray], bool] | None = None,
     check_every: int = 100,
     leap: Callable[[int], np.ndarray | None] | None = None,
@@ -73,11 +106,13 @@ def integrate(
     """Run an already-defined transient analysis for ``n_steps`` steps of ``dt`` s.
 
     The caller sets up the model, the ground-motion pattern, constraints, numberer,
-    system, test, integrator and ``ops.analysis("Transient")``. A step that fails is
-    retried with :data:`LADDER` (Newton, NewtonLineSearch, KrylovNewton, ModifiedNewton;
-    the caller's own algorithm is skipped at the full step, where it has just failed), then
-    with the step split into 2, 4 and 8 substeps, each substep trying the whole ladder.
-    The caller's algorithm is set again after a recovered step.
+    system, test, integrator and ``ops.analysis("Transient")``. A step that fails climbs
+    the rungs of ``convergence`` (:meth:`ConvergenceParams.rungs`: the caller's
+    algorithm over substeps ``dt/2``, ``dt/4``, ``dt/10``; the other algorithms at ``dt``
+    and over those substeps; all again with a looser test), each rung taking the step on
+    from where the one before it stopped, until one completes it. The caller's algorithm
+    and test are set again after a recovered step, and the step is counted under the rung
+    that completed it in the :class:`Recovery` of an enclosing :func:`counting`.
 
     Args:
         ops: the ``openseespy.opensees`` module (from
@@ -87,6 +122,10 @@ def integrate(
         read: returns the ``n_out`` quantities to record (e.g. displacements in m).
         algorithm: the ``ops.algorithm`` arguments the caller set (OpenSees cannot be
             asked), restored after a recovered step.
+        test: the ``ops.test`` arguments the caller set (``("NormDispIncr", 1e-8, 25)``),
+            loosened by the last rungs and restored after them; None: the ladder has no
+            looser-test rungs.
+        convergence: the ladder.
         abandon: called every ``check_every`` steps with the ``[check_every, n_out]`` rows
             read since its last call; True stops the analysis with :class:`Abandoned`
             (for a caller that will not use the rest, e.g. a model that has left the range
@@ -102,11 +141,13 @@ def integrate(
         after step ``k``.
 
     Raises:
-        AnalysisFailed: a step that nothing on the ladder could complete, with the time at
-            its start, what was tried and the rows recorded before it (``history``).
+        AnalysisFailed: a step that no rung could complete, with the time at its start,
+            what was tried and the rows recorded before it (``history``).
         Abandoned: ``abandon`` returned True.
     """
     algorithm = tuple(algorithm)
+    test = None if test is None else tuple(test)
+    rungs = convergence.rungs(algorithm, test)
     first = np.asarray(read(), dtype=np.float64)
     out = np.empty((n_steps + 1, first.size))
     out[0] = first
@@ -114,11 +155,14 @@ def integrate(
     while k < n_steps:
         k += 1
         if ops.analyze(1, dt) != 0:
-            try:
-                _recover(ops, dt, algorithm)
-            except AnalysisFailed as failure:
-                failure.history = out[:k].copy()
-                raise
+            start = ops.getTime()
+            rung = _recover(ops, dt, rungs, algorithm, test)
+            if rung is None:
+                tried = convergence.described(algorithm, test, dt)
+                raise AnalysisFailed(start, tried, out[:k].copy())
+            recovery = _RECOVERY.get()
+            if recovery is not None:
+                recovery.steps[rung] += 1
         out[k] = read()
         if k % check_every:
             continue
@@ -134,33 +178,42 @@ def integrate(
     return out
 
 
-def _recover(ops: Any, dt: float, algorithm: tuple[Any, ...]) -> None:
-    """Complete a step of ``dt`` that failed with ``algorithm``, or raise AnalysisFailed."""
-    start = ops.getTime()
+def _recover(
+    ops: Any,
+    dt: float,
+    rungs: Sequence[Rung],
+    algorithm: tuple[Any, ...],
+    test: tuple[Any, ...] | None,
+) -> Rung | None:
+    """Complete a step of ``dt`` s that failed with the caller's ``algorithm`` and
+    ``test`` by climbing ``rungs``; the rung that completed it, or None (the domain then
+    stands where the last completed substep left it), the caller's settings set again."""
     remaining = dt
+    loosened = False
     try:
-        for substeps in (1, *SPLITS):
-            h = dt / substeps
-            rungs = [r for r in LADDER if r != algorithm] if substeps == 1 else list(LADDER)
-            while remaining > 0.5 * h:
-                if not _step_with_ladder(ops, h, rungs):
-                    break
-                remaining -= h
-            if remaining <= 0.5 * dt / SPLITS[-1]:
-                return
+        for rung in rungs:
+            ops.algorithm(*rung.algorithm)
+            if rung.test is not None:
+                ops.test(*rung.test)
+                loosened = True
+            remaining = _advance(ops, dt, remaining, rung.substeps)
+            if remaining == 0.0:
+                return rung
     finally:
         ops.algorithm(*algorithm)
-    names = ", ".join(r[0] for r in LADDER)
-    raise AnalysisFailed(
-        start,
-        f"{names} at dt = {dt:g} s and at dt/{', dt/'.join(str(s) for s in SPLITS)}",
-    )
+        if loosened and test is not None:
+            ops.test(*test)
+    return None
 
 
-def _step_with_ladder(ops: Any, h: float, rungs: list[tuple[Any, ...]]) -> bool:
-    """One step of ``h`` s with the first algorithm of ``rungs`` that converges."""
-    for rung in rungs:
-        ops.algorithm(*rung)
-        if ops.analyze(1, h) == 0:
-            return True
-    return False
+def _advance(ops: Any, dt: float, remaining: float, substeps: int) -> float:
+    """Steps of ``dt / substeps`` s (the last one shorter where less is left) over the
+    ``remaining`` s of a step of ``dt``, until one fails; the seconds still left, 0.0
+    once the step is complete."""
+    h = dt / substeps
+    while remaining > 1e-9 * dt:
+        step = min(h, remaining)
+        if ops.analyze(1, step) != 0:
+            return remaining
+        remaining -= step
+    return 0.0

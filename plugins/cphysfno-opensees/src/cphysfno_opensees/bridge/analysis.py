@@ -30,7 +30,8 @@ def analyse(
 
     The model is built and brought to rest under gravity; the record excites it across
     the girder (UniformExcitation in Y, linear between samples) and Newmark's average
-    acceleration rule integrates it from rest, ``numerics.substeps`` steps per sample.
+    acceleration rule integrates it from rest, ``numerics.substeps`` steps per sample, a
+    step that does not converge climbing the ladder ``numerics.convergence``.
 
     Args:
         design, numerics, damping, columns, elastic: the model (see
@@ -62,10 +63,19 @@ def analyse(
     ops.constraints("Plain")
     ops.numberer(numerics.numberer)
     ops.system(numerics.system)
-    ops.test("NormDispIncr", numerics.tolerance, numerics.max_iterations)
+    test = ("NormDispIncr", numerics.tolerance, numerics.max_iterations)
+    ops.test(*test)
     ops.algorithm(*numerics.algorithm)
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
     k = numerics.substeps
-    steps = integrate(ops, k * (values.size - 1), dt / k, read, algorithm=numerics.algorithm)
+    steps = integrate(
+        ops,
+        k * (values.size - 1),
+        dt / k,
+        read,
+        algorithm=numerics.algorithm,
+        test=test,
+        convergence=numerics.convergence,
+    )
     return steps[::k] - at_rest

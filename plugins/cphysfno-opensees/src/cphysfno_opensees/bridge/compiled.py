@@ -273,9 +273,10 @@ def analyse(
     """:func:`analyse_compiled` for a worker process: reads the bridge from OpenSees on
     first use, and keeps BLAS to one thread (its threads would spin between the small
     solves of every step). A record the compiled engine cannot finish is handed to
-    OpenSees (:func:`.analysis.analyse`), whose ladder of solution algorithms
-    sometimes gets through where Newton does not (a few records in a hundred on the 0.1 s
-    grid of ``relaxed``); if OpenSees fails too, its failure is raised."""
+    OpenSees (:func:`.analysis.analyse`), whose convergence ladder
+    (``numerics.convergence``) sometimes gets through where Newton does not (a few records
+    in a hundred on the 0.1 s grid of ``relaxed``); if OpenSees fails too, its failure is
+    raised."""
     bridge = _compiled(design, numerics)
     try:
         with threadpool_limits(1):

@@ -3,7 +3,9 @@ physics (the defaults were chosen by measurement, see the plugin's README)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from ..convergence import ConvergenceParams
 
 
 @dataclass(frozen=True)
@@ -23,6 +25,7 @@ class Numerics:
         system: OpenSees linear system of equations.
         numberer: OpenSees DOF numberer.
         algorithm: OpenSees solution algorithm (``ops.algorithm`` arguments).
+        convergence: the convergence ladder of a step that does not converge in OpenSees.
         iterative_elements: in the compiled engine, every column's state determination
             iterates to convergence at every Newton iteration, as OpenSees'
             ``forceBeamColumn`` does (True: OpenSees' iterates exactly), or takes one
@@ -40,4 +43,5 @@ class Numerics:
     system: str = "BandGeneral"
     numberer: str = "RCM"
     algorithm: tuple[str, ...] = ("Newton",)
+    convergence: ConvergenceParams = field(default_factory=ConvergenceParams)
     iterative_elements: bool = False

@@ -130,6 +130,7 @@ class AuburnRavineBridge(OpenSeesStructure):
             integration_points=p.integration_points,
             substeps=p.substeps,
             tolerance=p.tolerance,
+            convergence=p.convergence,
             iterative_elements=p.iterative_elements,
         )
 

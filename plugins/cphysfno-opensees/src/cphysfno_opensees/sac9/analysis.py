@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import gc
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
@@ -17,6 +17,7 @@ from threadpoolctl import threadpool_limits
 
 from cphysfno_core import Rayleigh
 
+from ..convergence import ConvergenceParams
 from ..loader import import_opensees
 from ..transient import Abandoned, AnalysisFailed, integrate
 from .elastic import elastic_frame, set_state
@@ -35,8 +36,9 @@ class SolverConfig:
     (``elastic_phases``), so OpenSees takes the yielding steps, for which full Newton is
     1.4 times faster than a tangent factorised once (modified Newton, the faster choice
     when OpenSees took every step); a step is accepted once the unbalanced nodal forces
-    are below ``tolerance``. After a step that the retry ladder of
-    :func:`~cphysfno_opensees.transient.integrate` completed, the algorithm is set anew.
+    are below ``tolerance``. A step that does not converge climbs the ladder
+    ``convergence`` of :func:`~cphysfno_opensees.transient.integrate`, after which the
+    algorithm and the test are set anew.
 
     Attributes:
         system: OpenSees linear solver (``ops.system``).
@@ -46,8 +48,9 @@ class SolverConfig:
         test: convergence test (``ops.test``): ``"NormUnbalance"`` (N and N m) or
             ``"NormDispIncr"`` (m and rad).
         tolerance: its tolerance.
-        max_iterations: iterations per step before the retry ladder takes over.
+        max_iterations: iterations per step before the convergence ladder takes over.
         algorithm: solution algorithm and its options (``ops.algorithm`` arguments).
+        convergence: the convergence ladder.
         elastic_phases: fibre model: take the phases in which every fibre stays within
             ``ELASTIC_SHARE`` of its elastic range from the exact condensed linear model
             (:mod:`~cphysfno_opensees.sac9.phases`) and run OpenSees only between them:
@@ -62,7 +65,13 @@ class SolverConfig:
     tolerance: float = 100.0
     max_iterations: int = 50
     algorithm: tuple[str, ...] = ("Newton",)
+    convergence: ConvergenceParams = field(default_factory=ConvergenceParams)
     elastic_phases: bool = True
+
+    @property
+    def test_command(self) -> tuple[str, float, int]:
+        """The ``ops.test`` arguments."""
+        return (self.test, self.tolerance, self.max_iterations)
 
 
 INTERIOR_DRIFT_LIMIT = 0.015
@@ -205,6 +214,8 @@ def transient_response(
             dt,
             read,
             algorithm=solver.algorithm,
+            test=solver.test_command,
+            convergence=solver.convergence,
             leap=leap,
             check_every=TRY_EVERY,
         )
@@ -234,5 +245,5 @@ def configure_solver(ops: Any, solver: SolverConfig) -> None:
     ops.constraints("Transformation")
     ops.numberer(solver.numberer)
     ops.system(solver.system)
-    ops.test(solver.test, solver.tolerance, solver.max_iterations)
+    ops.test(*solver.test_command)
     ops.algorithm(*solver.algorithm)

@@ -133,7 +133,12 @@ class Sac9Frame(OpenSeesStructure):
         # Full Newton for the yielding steps OpenSees is left with; from rest, where most
         # steps are elastic, a tangent factorised once is faster.
         algorithm = ("Newton",) if phases else ("ModifiedNewton", "-FactorOnce")
-        return SolverConfig(tolerance=p.tolerance, algorithm=algorithm, elastic_phases=phases)
+        return SolverConfig(
+            tolerance=p.tolerance,
+            algorithm=algorithm,
+            convergence=p.convergence,
+            elastic_phases=phases,
+        )
 
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
         """``analyse(a_g [T] m/s^2, dt s) -> [T, 9]`` floor displacements (m): the model,

@@ -11,34 +11,45 @@ import numpy as np
 
 from cphysfno_core import Rayleigh
 
+from ..convergence import ConvergenceParams
 from ..loader import import_opensees
 from ..transient import AnalysisFailed, integrate
-from .model import ModelSpec, build_model, start_transient
+from .model import ModelSpec, build_model, start_transient, transient_test
+from .responses import response_reader
 
 ALGORITHM = ("Newton",)
 """The solution algorithm of every step (the fallbacks of
 :func:`~cphysfno_opensees.transient.integrate` take over where it fails)."""
 
 
-def analyse(spec: ModelSpec, damping: Rayleigh, acceleration: np.ndarray, dt: float) -> np.ndarray:
+def analyse(
+    spec: ModelSpec,
+    damping: Rayleigh,
+    convergence: ConvergenceParams,
+    acceleration: np.ndarray,
+    dt: float,
+) -> np.ndarray:
     """The outputs' response to one ground motion, from rest at the gravity state.
 
     The model is built and brought to rest under its gravity loads (held constant); the
     record, converted into the model's length unit, excites it as a UniformExcitation
     along ``spec.excitation_dof``, linear between samples, and Newmark's average
     acceleration rule integrates it at ``dt`` with Newton iterations, a step that does not
-    converge retried by :func:`~cphysfno_opensees.transient.integrate`.
+    converge climbing the ladder ``convergence`` of
+    :func:`~cphysfno_opensees.transient.integrate`.
 
     Args:
         spec: the model, its constraint handler chosen.
         damping: Rayleigh factors on the mass and the initial stiffness.
+        convergence: the convergence ladder of a step that does not converge.
         acceleration: ``[T]`` ground acceleration, m/s^2.
         dt: its time step, s.
 
     Returns:
-        ``[T, 2 n_outputs]``: the displacements relative to the ground from the gravity
-        state (m for translations, rad for rotations), then the accelerations relative to
-        the ground (``nodeAccel``: m/s^2, rad/s^2).
+        ``[T, 2 n_outputs + n_responses]``: the displacements relative to the ground from
+        the gravity state (m for translations, rad for rotations), then the accelerations
+        relative to the ground (``nodeAccel``: m/s^2, rad/s^2), then each named response
+        of ``spec.responses`` (its own unit, as OpenSees gives it times its scale).
 
     Raises:
         AnalysisFailed: a step that nothing could complete (a collapse), with the response
@@ -51,16 +62,28 @@ def analyse(spec: ModelSpec, damping: Rayleigh, acceleration: np.ndarray, dt: fl
     outputs = spec.outputs
     scale = np.where(built.translations, spec.metres_per_unit, 1.0)
 
-    origin = np.concatenate([built.at_rest, np.zeros(len(outputs))])
-    scale = np.tile(scale, 2)
+    named = len(spec.responses)
+    origin = np.concatenate([built.at_rest, np.zeros(len(outputs) + named)])
+    scale = np.concatenate([np.tile(scale, 2), np.ones(named)])
+    responses = response_reader(ops, spec.responses)
 
     def read() -> list[float]:
-        return [ops.nodeDisp(node, dof) for node, dof in outputs] + [
-            ops.nodeAccel(node, dof) for node, dof in outputs
-        ]
+        return (
+            [ops.nodeDisp(node, dof) for node, dof in outputs]
+            + [ops.nodeAccel(node, dof) for node, dof in outputs]
+            + responses()
+        )
 
     try:
-        recorded = integrate(ops, ground.size - 1, dt, read, algorithm=ALGORITHM)
+        recorded = integrate(
+            ops,
+            ground.size - 1,
+            dt,
+            read,
+            algorithm=ALGORITHM,
+            test=transient_test(spec),
+            convergence=convergence,
+        )
     except AnalysisFailed as failure:
         failure.history = (failure.history - origin) * scale
         raise

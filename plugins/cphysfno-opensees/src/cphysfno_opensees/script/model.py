@@ -12,6 +12,7 @@ import numpy as np
 from cphysfno_core import Rayleigh
 
 from ..messages import captured, said
+from .responses import ResponseParams, check_responses
 from .source import BUILD, ScriptError, call, load
 
 LENGTH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048}
@@ -42,6 +43,7 @@ class ModelSpec:
         max_iterations: Newton iterations per step before the fallbacks take over.
         constraints: the ``ops.constraints`` arguments of every analysis (empty until
             chosen).
+        responses: the named responses read at every step beside the outputs.
     """
 
     script: Path
@@ -52,6 +54,7 @@ class ModelSpec:
     tolerance: float
     max_iterations: int
     constraints: tuple[Any, ...] = ()
+    responses: tuple[ResponseParams, ...] = ()
 
     def with_constraints(self, constraints: tuple[Any, ...]) -> ModelSpec:
         return replace(self, constraints=tuple(constraints))
@@ -87,8 +90,9 @@ def build_model(
 
     Raises:
         ScriptError: the script or its ``build()`` raises, the model has no nodes, an
-            output names a node or DOF the model does not have, the excitation DOF is not
-            one of its nodes', or the gravity analysis fails.
+            output or a named response names a node, DOF or element the model does not
+            have, the excitation DOF is not one of its nodes', or the gravity analysis
+            fails.
     """
     module = load(spec.script)
     ops.wipe()
@@ -114,6 +118,7 @@ def build_model(
                 f"not {dof}"
             )
         translations.append(dof <= ndm)
+    check_responses(ops, spec.responses, spec.script)
     widest = max(int(ops.getNDF(node)[0]) for node in nodes)
     if spec.excitation_dof > widest:
         raise ScriptError(
@@ -192,7 +197,13 @@ def start_transient(
     ops.constraints(*spec.constraints)
     ops.numberer("RCM")
     ops.system("BandGeneral")
-    ops.test("NormDispIncr", spec.tolerance, spec.max_iterations)
+    ops.test(*transient_test(spec))
     ops.algorithm("Newton")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
+
+
+def transient_test(spec: ModelSpec) -> tuple[Any, ...]:
+    """The ``ops.test`` arguments of the transient analysis: the norm of the displacement
+    increment below ``spec.tolerance`` (model units) within ``spec.max_iterations``."""
+    return ("NormDispIncr", spec.tolerance, spec.max_iterations)

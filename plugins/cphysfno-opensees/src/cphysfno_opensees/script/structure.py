@@ -13,7 +13,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
-from cphysfno_core import LinearSystem, Stories, StoryPushover
+from cphysfno_core import LinearSystem, Stories, StoryPushover, edp
+from cphysfno_core.signals import ResponseChannel
 
 from ..runner import call_in_worker
 from ..structure import OpenSeesParams, OpenSeesStructure
@@ -21,6 +22,7 @@ from .analysis import analyse
 from .model import LENGTH_UNITS, ModelSpec
 from .probe import Summary, probe
 from .pushover import story_pushover
+from .responses import ResponseParams
 from .source import ScriptError, resolve
 
 logger = logging.getLogger(__name__)
@@ -91,6 +93,11 @@ class OpenSeesModelParams(OpenSeesParams):
     max_iterations: int = Field(
         25, ge=1, description="Newton iterations per step before the fallbacks"
     )
+    responses: list[ResponseParams] = Field(
+        [],
+        description="named node or element responses recorded beside the outputs (base "
+        "shear, isolator force or deformation, ...), each with its unit",
+    )
 
     @field_validator("rayleigh_modes")
     @classmethod
@@ -111,6 +118,12 @@ class OpenSeesModelParams(OpenSeesParams):
             raise ValueError("give story_heights or drift_pairs, not both")
         if self.story_heights is not None and len(self.story_heights) != n:
             raise ValueError(f"story_heights: give one per output ({n}), bottom story first")
+        names = [r.name for r in self.responses]
+        clashes = sorted(
+            {n for n in names if names.count(n) > 1} | ({*names} & {edp.ACCELERATION_EXTRA})
+        )
+        if clashes:
+            raise ValueError(f"responses: the names {', '.join(clashes)} are taken")
         return self
 
 
@@ -173,6 +186,7 @@ class OpenSeesModel(OpenSeesStructure):
             metres_per_unit=self.metres_per_unit,
             tolerance=p.tolerance / self.metres_per_unit,
             max_iterations=p.max_iterations,
+            responses=tuple(p.responses),
         )
 
     @cached_property
@@ -209,10 +223,14 @@ class OpenSeesModel(OpenSeesStructure):
 
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
         """One record's analysis: :func:`~.analysis.analyse` with the model, its handler
-        and its Rayleigh factors bound."""
+        its Rayleigh factors and its convergence ladder bound."""
         summary = self.summary
         spec = self.spec.with_constraints(summary.constraints)
-        return functools.partial(analyse, spec, summary.damping_factors)
+        return functools.partial(analyse, spec, summary.damping_factors, self.params.convergence)
+
+    def response_channels(self) -> tuple[ResponseChannel, ...]:
+        """The named ``responses``, each an extra channel ``[n, T, 1]`` in its unit."""
+        return tuple(r.channel() for r in self.params.responses)
 
     def ground_influence(self) -> np.ndarray:
         """``[n_outputs]``: 1 for an output along the excitation DOF (a translation, which
