@@ -213,6 +213,15 @@ def springs(
     )  # fmt: skip
 
 
+def finer(motions, k: int):
+    """The same motions on a grid ``k`` times finer, linear between their samples."""
+    import cphysfno_core as cp
+
+    time = np.arange((motions.n_steps - 1) * k + 1) * motions.dt / k
+    values = np.stack([np.interp(time, motions.time, row) for row in motions.acceleration])
+    return cp.GroundMotions(values, motions.dt / k)
+
+
 def tiny_run(structure: dict):
     """The config of a run of ``structure`` at the smallest size: 8 white-noise records of
     3 s, ELS, a one-layer FNO trained one epoch, serial, no figures."""
@@ -273,6 +282,7 @@ def direct_run(
     tolerance: float = 1e-8,
     held_gravity: str | None = None,
     convergence=None,
+    damping=None,
 ) -> DirectRun:
     """The script analysed with OpenSeesPy alone, as one would by hand: gravity in ten
     load steps held constant (or the script's own ``held_gravity`` function, which
@@ -280,7 +290,9 @@ def direct_run(
     eigen analysis of the gravity state in ``modes``, the record as a UniformExcitation in
     DOF 1, Newmark's average acceleration rule, Newton, the Transformation handler. Every
     step must converge, unless a convergence ladder (``ConvergenceParams``) is given:
-    the steps are then taken by ``transient.integrate`` with it.
+    the steps are then taken by ``transient.integrate`` with it. ``damping(ops, a, b)``,
+    given the Rayleigh factors ``a`` (1/s) and ``b`` (s), sets the damping instead of
+    ``rayleigh a 0 b 0``.
 
     Returns:
         :class:`DirectRun`.
@@ -308,7 +320,10 @@ def direct_run(
     mass_factor = 2.0 * damping_ratio * a * b / (a + b)
     stiffness_factor = 2.0 * damping_ratio / (a + b)
     rest = np.array([ops.nodeDisp(node, dof) for node, dof in outputs])
-    ops.rayleigh(mass_factor, 0.0, stiffness_factor, 0.0)
+    if damping is None:
+        ops.rayleigh(mass_factor, 0.0, stiffness_factor, 0.0)
+    else:
+        damping(ops, mass_factor, stiffness_factor)
     values = np.asarray(acceleration, dtype=float) / metres_per_unit
     ops.timeSeries("Path", 77, "-dt", dt, "-values", *values)
     ops.pattern("UniformExcitation", 77, 1, "-accel", 77)

@@ -79,7 +79,7 @@ def test_at_one_percent_amplitude_els_is_the_simulation_within_its_time_step_err
     small = GroundMotions(0.01 * strong.acceleration, strong.dt)
     z = cp.create("preprocessor", "els").fit(frame).transform(small)
     u = frame.simulate(small).displacement
-    fine = frame.simulate(_finer(small, 16)).displacement[:, ::16]
+    fine = frame.simulate(sm.finer(small, 16)).displacement[:, ::16]
     integration = sm.relative_l2(u, fine)
     assert np.all(sm.relative_l2(z, u) <= 1.1 * integration + 1e-3)
     assert np.all(integration < 0.05)
@@ -169,11 +169,11 @@ def test_massless_dofs_are_condensed_and_the_periods_are_opensees_eigen(folder, 
     np.testing.assert_allclose(model.periods(), sm.eigen_periods(script, 4), rtol=1e-3)
     direct = sm.direct_run(script, [(11, 1), (21, 1)], strong.acceleration[0], strong.dt)[0]
     assert np.all(sm.relative_l2(model.simulate(strong).displacement[0], direct) < 1e-3)
-    factors = model.summary.damping_factors
+    factors = model.summary.damping_setup.rayleigh
     naive = factors.mass_factor * system.mass + factors.stiffness_factor * system.stiffness
     assert np.abs(system.damping - naive).max() > 1e-3 * np.abs(naive).max()
     small = GroundMotions(0.01 * strong.acceleration, strong.dt)
-    fine = model.simulate(_finer(small, 16)).displacement[:, ::16]
+    fine = model.simulate(sm.finer(small, 16)).displacement[:, ::16]
     ours = sm.relative_l2(linear_response(system, small), fine)
     other = cp.LinearSystem(system.mass, naive, system.stiffness, system.influence,
                             system.output_map)  # fmt: skip
@@ -249,13 +249,6 @@ def test_a_gravity_state_analysed_and_held_by_the_script_is_not_analysed_again(f
                            held_gravity="gravity_held").displacement  # fmt: skip
     u = model.simulate(motion).displacement[0]
     assert np.all(sm.relative_l2(u, direct) < 1e-3)
-
-
-def _finer(motions: GroundMotions, k: int) -> GroundMotions:
-    """The same motions on a grid ``k`` times finer, linear between their samples."""
-    time = np.arange((motions.n_steps - 1) * k + 1) * motions.dt / k
-    values = np.stack([np.interp(time, motions.time, row) for row in motions.acceleration])
-    return GroundMotions(values, motions.dt / k)
 
 
 def test_the_stories_default_to_the_floors_over_the_ground(frame):

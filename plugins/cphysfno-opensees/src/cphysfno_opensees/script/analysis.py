@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from cphysfno_core import Rayleigh
-
 from ..convergence import ConvergenceParams
 from ..loader import import_opensees
 from ..transient import AnalysisFailed, integrate
+from .damping import DampingSetup
 from .model import ModelSpec, build_model, start_transient, transient_test
 from .responses import response_reader
 
@@ -24,7 +23,7 @@ ALGORITHM = ("Newton",)
 
 def analyse(
     spec: ModelSpec,
-    damping: Rayleigh,
+    damping: DampingSetup,
     convergence: ConvergenceParams,
     acceleration: np.ndarray,
     dt: float,
@@ -40,7 +39,7 @@ def analyse(
 
     Args:
         spec: the model, its constraint handler chosen.
-        damping: Rayleigh factors on the mass and the initial stiffness.
+        damping: the damping commands set after gravity.
         convergence: the convergence ladder of a step that does not converge.
         acceleration: ``[T]`` ground acceleration, m/s^2.
         dt: its time step, s.

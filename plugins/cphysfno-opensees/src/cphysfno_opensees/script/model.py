@@ -9,9 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from cphysfno_core import Rayleigh
-
 from ..messages import captured, said
+from .damping import DampingSetup
 from .responses import ResponseParams, check_responses
 from .source import BUILD, ScriptError, call, load
 
@@ -184,13 +183,13 @@ def _has_moved(ops: Any) -> bool:
 
 
 def start_transient(
-    ops: Any, spec: ModelSpec, damping: Rayleigh, acceleration: np.ndarray, dt: float
+    ops: Any, spec: ModelSpec, damping: DampingSetup, acceleration: np.ndarray, dt: float
 ) -> None:
-    """Rayleigh damping on the mass and the initial stiffness, the ground acceleration
-    (in the model's units, linear between samples) as a UniformExcitation along
-    ``spec.excitation_dof``, and the transient analysis: Newmark's average acceleration
-    rule, Newton, the handler ``spec.constraints``."""
-    ops.rayleigh(damping.mass_factor, 0.0, damping.stiffness_factor, 0.0)
+    """The damping (:meth:`DampingSetup.apply`), the ground acceleration (in the model's
+    units, linear between samples) as a UniformExcitation along ``spec.excitation_dof``,
+    and the transient analysis: Newmark's average acceleration rule, Newton, the handler
+    ``spec.constraints``."""
+    damping.apply(ops)
     values = np.asarray(acceleration, dtype=np.float64)
     ops.timeSeries("Path", EXCITATION_TAG, "-dt", dt, "-values", *values)
     ops.pattern("UniformExcitation", EXCITATION_TAG, spec.excitation_dof, "-accel", EXCITATION_TAG)

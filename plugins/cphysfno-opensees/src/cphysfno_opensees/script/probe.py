@@ -1,21 +1,20 @@
 """What the framework learns of a user's model before analysing records: the constraint
-handler that works for it, its Rayleigh damping, and its linear equations at the gravity
+handler that works for it, its damping, and its linear equations at the gravity
 state (runs in a worker process, see :func:`probe`)."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 import scipy.linalg
 
-from cphysfno_core import Rayleigh
-
 from ..loader import import_opensees
 from ..matrices import Equations, ReductionError, assemble, eigenvalues, printed_matrix, reduce
 from ..messages import captured
+from .damping import DampingChoice, DampingSetup
 from .model import ModelSpec, apply_gravity, build_model
 from .source import ScriptError
 
@@ -44,7 +43,7 @@ class Summary:
         dofs: ``[r]`` ``(node, dof)`` of the retained DOFs.
         output_map: ``[n_outputs, r]`` each output's displacement per unit of each DOF.
         influence: ``[r]`` the ground-motion influence vector of the excitation DOF.
-        damping_factors: the Rayleigh factors on the mass and the initial stiffness.
+        damping_setup: the damping commands every analysis sets after gravity.
         opensees_periods: the first periods (s) from OpenSees' own eigen analysis under
             the chosen handler, where it has one (not with ``Penalty``).
         coordinates: node -> coordinates, for every node.
@@ -61,7 +60,7 @@ class Summary:
     dofs: tuple[tuple[int, int], ...]
     output_map: np.ndarray
     influence: np.ndarray
-    damping_factors: Rayleigh
+    damping_setup: DampingSetup
     opensees_periods: np.ndarray
     coordinates: dict[int, tuple[float, ...]]
     restrained: frozenset[int]
@@ -71,17 +70,15 @@ class Summary:
         return 2.0 * np.pi / _frequencies(self.stiffness, self.mass)
 
 
-def probe(
-    spec: ModelSpec, requested: str, damping_ratio: float, rayleigh_modes: tuple[int, int]
-) -> Summary:
-    """Choose the constraint handler, find the Rayleigh factors and read the model's
-    linear equations at its gravity state.
+def probe(spec: ModelSpec, requested: str, damping: DampingChoice) -> Summary:
+    """Choose the constraint handler, set up the damping and read the model's linear
+    equations at its gravity state.
 
     Args:
         spec: the model (its ``constraints`` are ignored).
         requested: ``"auto"`` or a handler name (:data:`.model.HANDLERS`).
-        damping_ratio: Rayleigh damping ratio in the two modes ``rayleigh_modes``
-            (counted from 1) of the equations at the gravity state.
+        damping: the damping chosen, its factors matched to the modes of the equations at
+            the gravity state.
 
     Raises:
         ScriptError: the script fails, the model cannot be analysed with the requested
@@ -107,8 +104,7 @@ def probe(
                 )
             checks.append((requested, "enforces the constraints"))
             constraints = (requested,)
-        return _summary(ops, spec.with_constraints(constraints), checks, damping_ratio,
-                        rayleigh_modes)  # fmt: skip
+        return _summary(ops, spec.with_constraints(constraints), checks, damping)
     finally:
         ops.wipe()
 
@@ -180,29 +176,20 @@ def _check(ops: Any, spec: ModelSpec, constraints: tuple[Any, ...], reference: _
 
 
 def _summary(
-    ops: Any,
-    spec: ModelSpec,
-    checks: list,
-    damping_ratio: float,
-    rayleigh_modes: tuple[int, int],
+    ops: Any, spec: ModelSpec, checks: list, damping: DampingChoice
 ) -> Summary:
-    """The model analysed to its gravity state with ``spec.constraints`` and read."""
+    """The model analysed to its gravity state with ``spec.constraints`` and read, its
+    damping matrix the one its damping commands give there."""
     build_model(ops, spec)
-    reduced = _reduced(ops, spec, assemble(ops, damping=False))
-    omega = _frequencies(reduced.stiffness, reduced.mass, spec)
-    last = max(rayleigh_modes)
-    if last > omega.size:
-        raise ScriptError(
-            f"rayleigh_modes = {list(rayleigh_modes)}: the model of OpenSees script "
-            f"{spec.script} has {omega.size} mode(s) (DOFs with mass)"
-        )
-    factors = Rayleigh(0.0, 0.0)
-    if damping_ratio > 0.0:
-        first, second = (omega[m - 1] for m in rayleigh_modes)
-        factors = Rayleigh.matching(first, second, damping_ratio)
-    ops.rayleigh(factors.mass_factor, 0.0, factors.stiffness_factor, 0.0)
-    equations = assemble(ops)
+    undamped = _reduced(ops, spec, assemble(ops, damping=False))
+    omega = _frequencies(undamped.stiffness, undamped.mass, spec)
+    setup = damping.setup(omega, spec.script)
+    if setup.kind != "modal":
+        setup.apply(ops, tangent=setup.kind == "rayleigh-committed")
+    equations = assemble(ops, damping=setup.kind != "modal")
     reduced = _reduced(ops, spec, equations)
+    if setup.kind == "modal":
+        reduced = replace(reduced, damping=setup.modal_matrix(reduced.mass, reduced.stiffness))
     rows = []
     for node, dof in spec.outputs:
         row = reduced.shapes[equations.equations[(node, dof)]]
@@ -242,7 +229,7 @@ def _summary(
         dofs=reduced.dofs,
         output_map=np.asarray(rows),
         influence=influence,
-        damping_factors=factors,
+        damping_setup=setup,
         opensees_periods=opensees_periods,
         coordinates=coordinates,
         restrained=restrained,

@@ -8,7 +8,7 @@ import logging
 from collections.abc import Callable
 from functools import cached_property
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import Field, PositiveFloat, field_validator, model_validator
@@ -19,6 +19,7 @@ from cphysfno_core.signals import ResponseChannel
 from ..runner import call_in_worker
 from ..structure import OpenSeesParams, OpenSeesStructure
 from .analysis import analyse
+from .damping import DampingChoice, DampingKind, DampingRegion
 from .model import LENGTH_UNITS, ModelSpec
 from .probe import Summary, probe
 from .pushover import story_pushover
@@ -50,14 +51,31 @@ class OpenSeesModelParams(OpenSeesParams):
         None, description="a name for each output (default node-<node>-dof-<dof>)"
     )
     excitation_dof: Dof = Field(1, description="the DOF along which the ground moves")
+    damping: DampingKind = Field(
+        "rayleigh",
+        description="rayleigh: mass and initial stiffness; rayleigh-committed: mass and "
+        "committed stiffness; modal: OpenSees modalDamping over the modes at the gravity state",
+    )
     damping_ratio: float = Field(
         0.05,
         ge=0.0,
         lt=1.0,
-        description="Rayleigh damping ratio (mass and initial stiffness) in rayleigh_modes",
+        description="damping ratio: in rayleigh_modes for Rayleigh damping, in every mode "
+        "for modal damping unless modal_ratios gives one per mode",
     )
     rayleigh_modes: tuple[int, int] = Field(
         (1, 2), description="the two modes (from 1, at the gravity state) damped damping_ratio"
+    )
+    modal_ratios: list[Annotated[float, Field(ge=0.0, lt=1.0)]] | None = Field(
+        None,
+        min_length=1,
+        description="modal damping: the ratio of each mode from 1 (the modes after them "
+        "undamped); default damping_ratio in every mode",
+    )
+    damping_region: DampingRegion | None = Field(
+        None,
+        description="Rayleigh damping on these nodes' masses and elements' stiffness only "
+        "(leave isolators or zeroLength springs undamped); default the whole model",
     )
     gravity: str | None = Field(
         None,
@@ -118,6 +136,10 @@ class OpenSeesModelParams(OpenSeesParams):
             raise ValueError("give story_heights or drift_pairs, not both")
         if self.story_heights is not None and len(self.story_heights) != n:
             raise ValueError(f"story_heights: give one per output ({n}), bottom story first")
+        if self.modal_ratios is not None and self.damping != "modal":
+            raise ValueError("modal_ratios: only with damping = 'modal'")
+        if self.damping_region is not None and self.damping == "modal":
+            raise ValueError("damping_region: only with Rayleigh damping (modal acts on all)")
         names = [r.name for r in self.responses]
         clashes = sorted(
             {n for n in names if names.count(n) > 1} | ({*names} & {edp.ACCELERATION_EXTRA})
@@ -136,8 +158,12 @@ class OpenSeesModel(OpenSeesStructure):
       and may analyse them itself; if it leaves them unanalysed the framework analyses them
       statically; either way they are held constant (``loadConst -time 0.0``) before the
       record, so P-Delta acts through the element transformations the script chose;
-    - damping: Rayleigh on the mass and the initial stiffness (``alphaM``, ``betaKinit``),
-      ``damping_ratio`` in ``rayleigh_modes`` of the model at its gravity state;
+    - damping (``damping``): Rayleigh on the mass and the initial stiffness (``alphaM``,
+      ``betaKinit``; ``rayleigh``) or the committed stiffness (``betaKcomm``;
+      ``rayleigh-committed``), ``damping_ratio`` in ``rayleigh_modes`` of the model at its
+      gravity state, on the whole model or on ``damping_region`` only (OpenSees
+      ``region``); or OpenSees' ``modalDamping`` (``modal``) over the modes of an eigen
+      analysis at the gravity state, ``damping_ratio`` in each or ``modal_ratios``;
     - the record: a UniformExcitation along ``excitation_dof`` on the record's own time
       step, Newmark's average acceleration rule with Newton iterations, the fallbacks of
       :func:`~cphysfno_opensees.transient.integrate` and the worker recycling of
@@ -189,10 +215,23 @@ class OpenSeesModel(OpenSeesStructure):
             responses=tuple(p.responses),
         )
 
+    @property
+    def damping_choice(self) -> DampingChoice:
+        """The damping the parameters ask for (its factors found by the probe)."""
+        p = self.params
+        region = p.damping_region
+        return DampingChoice(
+            p.damping,
+            p.damping_ratio,
+            tuple(p.rayleigh_modes),
+            None if p.modal_ratios is None else tuple(p.modal_ratios),
+            None if region is None else (tuple(region.nodes), tuple(region.elements)),
+        )
+
     @cached_property
     def summary(self) -> Summary:
-        """The model as probed in a worker process: its constraint handler, Rayleigh
-        factors and linear equations at the gravity state (once per instance).
+        """The model as probed in a worker process: its constraint handler, damping and
+        linear equations at the gravity state (once per instance).
 
         Raises:
             ScriptError: the script fails, or the model cannot be analysed.
@@ -203,8 +242,7 @@ class OpenSeesModel(OpenSeesStructure):
             probe,
             self.spec,
             p.constraints,
-            p.damping_ratio,
-            tuple(p.rayleigh_modes),
+            self.damping_choice,
             description=f"probing the model of OpenSees script {self.spec.script}",
         )
         logger.info(
@@ -223,10 +261,10 @@ class OpenSeesModel(OpenSeesStructure):
 
     def analysis(self) -> Callable[[np.ndarray, float], np.ndarray]:
         """One record's analysis: :func:`~.analysis.analyse` with the model, its handler
-        its Rayleigh factors and its convergence ladder bound."""
+        its damping and its convergence ladder bound."""
         summary = self.summary
         spec = self.spec.with_constraints(summary.constraints)
-        return functools.partial(analyse, spec, summary.damping_factors, self.params.convergence)
+        return functools.partial(analyse, spec, summary.damping_setup, self.params.convergence)
 
     def response_channels(self) -> tuple[ResponseChannel, ...]:
         """The named ``responses``, each an extra channel ``[n, T, 1]`` in its unit."""
@@ -354,9 +392,9 @@ class OpenSeesModel(OpenSeesStructure):
         return story_pushover(spec, self.stories(), system, roof_drift_ratio, pattern)
 
     def write_artifacts(self, directory: Path) -> list[Path]:
-        """``opensees-model.json``: the constraint handler chosen and why, the Rayleigh
-        factors, the periods at the gravity state (the framework's and OpenSees' own
-        eigen analysis) and the DOFs of the linear system."""
+        """``opensees-model.json``: the constraint handler chosen and why, the damping
+        (Rayleigh factors, region, modal ratios), the periods at the gravity state (the
+        framework's and OpenSees' own eigen analysis) and the DOFs of the linear system."""
         summary = self.summary
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
@@ -367,10 +405,7 @@ class OpenSeesModel(OpenSeesStructure):
                     "script": str(self.spec.script),
                     "constraints": list(summary.constraints),
                     "constraint_checks": [list(check) for check in summary.checks],
-                    "rayleigh": {
-                        "mass_factor_per_s": summary.damping_factors.mass_factor,
-                        "stiffness_factor_s": summary.damping_factors.stiffness_factor,
-                    },
+                    "damping": summary.damping_setup.describe(),
                     "periods_s": summary.periods().tolist(),
                     "opensees_eigen_periods_s": summary.opensees_periods.tolist(),
                     "linear_system_dofs": [list(dof) for dof in summary.dofs],
