@@ -12,6 +12,7 @@ from cphysfno_opensees.sac9.model import build_frame
 from cphysfno_opensees.sac9.structure import Sac9Frame
 
 import cphysfno_core as cp
+from cphysfno_core.signals import monotonic_protocol
 from cphysfno_core.testing import check_structure, small_motions
 
 
@@ -162,7 +163,26 @@ def test_the_frame_has_its_own_linear_system_and_the_papers_equivalent_one(frame
         "equivalent_linear_system",
         "coarse_simulation",
         "stories",
+        "pushover",
     }
     own, paper = frame.linear_system(), frame.equivalent_linear_system()
     assert not np.allclose(own.stiffness, paper.stiffness, rtol=0.05)
     np.testing.assert_allclose(np.diag(own.mass), np.diag(paper.mass), rtol=1e-9)
+
+
+def test_the_story_pushover_starts_on_the_frames_condensed_stiffness(frame):
+    """At 0.01 % roof drift the frame is elastic: the floors' displacements under the
+    pushover's load are K^-1 F of the stiffness inverted from unit loads in OpenSees, and
+    the first-mode pattern is that of the frame's own linear system; past yield the story
+    shear levels off."""
+    curves = frame.story_pushover(monotonic_protocol(0.02, 40))
+    stiffness, masses = condensed_stiffness(frame)
+    np.testing.assert_allclose(curves.masses, masses, rtol=1e-9)
+    small = frame.story_pushover(np.array([0.0, 1e-4]))
+    loads = small.story_shear[1, 0] * small.pattern  # the base shear times the pattern
+    expected = np.diff(np.linalg.solve(stiffness, loads), prepend=0.0)
+    np.testing.assert_allclose(small.story_drift[1], expected, rtol=1e-4)
+    np.testing.assert_allclose(small.pattern, curves.pattern, rtol=1e-12)
+    assert not curves.stopped and curves.story_drift.shape == (40, 9)
+    secant = curves.story_shear[-1, 0] / curves.story_drift[-1, 0]
+    assert secant < 0.8 * curves.initial_stiffness[0]  # the first story has yielded

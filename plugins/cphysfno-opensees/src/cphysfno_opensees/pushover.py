@@ -14,13 +14,15 @@ JSON, drawn by :func:`plot_pushover`), and :func:`shear_building` builds the lin
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from cphysfno_core import CphysfnoError, InputError, LinearSystem, Rayleigh
+from cphysfno_core import CphysfnoError, InputError, LinearSystem, Rayleigh, Stories, StoryPushover
+from cphysfno_core.signals import first_mode_pattern, floor_masses, lateral_pattern
 
 ELASTIC_TOLERANCE = 1e-3
 """A point of the curve is elastic while its secant stiffness (base shear over roof
@@ -114,6 +116,55 @@ def push(
                 break
     ops.wipeAnalysis()
     return Pushed(np.asarray(displacement), np.asarray(factor), stopped)
+
+
+STRENGTH_LOSS = 0.2
+"""A story pushover stops after a point that pushes the roof further than before with less
+than ``1 - STRENGTH_LOSS`` of the largest base shear so far."""
+
+
+def story_pushover_by(
+    pusher: Callable[[np.ndarray, np.ndarray], Pushed],
+    stories: Stories,
+    system: LinearSystem,
+    roof_drift_ratio: np.ndarray,
+    pattern: np.ndarray | None,
+    metres_per_unit: float = 1.0,
+) -> StoryPushover:
+    """Each story's shear-drift curve of a building pushed by ``pusher(pattern, roof)``
+    (which runs :func:`push` on the model at its gravity state, in a worker process).
+
+    Args:
+        pusher: pushes the model with the lateral load ``pattern [d]`` (summing to 1) on
+            its floors bottom-up, the roof along ``roof [p]`` (model length units).
+        stories: the building's stories, one above the other (heights in m).
+        system: its linear system at the gravity state (SI lengths).
+        roof_drift_ratio: ``[p]`` roof displacement over the building's height, from 0.
+        pattern: ``[d]`` lateral load on the floors, bottom up, or ``None`` for the first
+            mode of ``system`` times the floor masses.
+        metres_per_unit: metres per length unit of the model.
+
+    Returns:
+        The curves: story drifts in m, story shears (the lateral loads above each story)
+        in the model's force unit, floor masses condensed from ``system``
+        (:func:`~cphysfno_core.signals.floor_masses`).
+
+    Raises:
+        InputError: ``pattern`` is not one value >= 0 per floor of positive sum.
+    """
+    masses = floor_masses(system, stories.upper)
+    if pattern is None:
+        pattern = first_mode_pattern(system, stories.upper, masses)
+    pattern = lateral_pattern(pattern, stories.n_stories)
+    heights = np.asarray(stories.heights_m)
+    ratio = np.asarray(roof_drift_ratio, dtype=np.float64)
+    pushed = pusher(pattern, ratio * heights.sum() / metres_per_unit)
+    displacement = pushed.floor_displacement * metres_per_unit
+    drift = np.diff(displacement, axis=1, prepend=0.0)
+    loads = pushed.load_factor[:, None] * pattern[None, :]
+    shear = np.cumsum(loads[:, ::-1], axis=1)[:, ::-1]
+    reached = ratio[: displacement.shape[0]]
+    return StoryPushover(reached, drift, shear, masses, heights, pattern, pushed.stopped)
 
 
 def _advance(ops: Any, roof_node: int, dof: int, increment: float) -> bool:

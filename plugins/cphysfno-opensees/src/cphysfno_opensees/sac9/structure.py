@@ -11,10 +11,20 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import ConfigError, LinearSystem, Rayleigh, Stories
+from cphysfno_core import ConfigError, LinearSystem, Rayleigh, Stories, StoryPushover
 
 from ..loader import import_opensees
-from ..pushover import PushoverCurve, plot_pushover, run_pushover, shear_building
+from ..pushover import (
+    STRENGTH_LOSS,
+    Pushed,
+    PushoverCurve,
+    plot_pushover,
+    push,
+    run_pushover,
+    shear_building,
+    story_pushover_by,
+)
+from ..runner import call_in_worker
 from ..structure import OpenSeesParams, OpenSeesStructure
 from .analysis import SolverConfig, analyse_record
 from .elastic import condensed_system
@@ -97,7 +107,7 @@ class Sac9Frame(OpenSeesStructure):
 
     name = "sac9-frame"
     Params = Sac9FrameParams
-    capabilities = frozenset({"linear_system", "coarse_simulation", "stories"})
+    capabilities = frozenset({"linear_system", "coarse_simulation", "stories", "pushover"})
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -179,6 +189,27 @@ class Sac9Frame(OpenSeesStructure):
         config = dataclasses.replace(self.frame_config, elastic_interior=False)
         return _pushover(config, self.params.pushover_drift)
 
+    def story_pushover(
+        self, roof_drift_ratio: np.ndarray, pattern: np.ndarray | None = None
+    ) -> StoryPushover:
+        """Each story's shear-drift curve of the nonlinear model (fibre sections at every
+        integration point, the P-Delta of the weight), pushed in a worker process along
+        ``roof_drift_ratio`` by ``pattern`` on the floors (default: the first mode of
+        :meth:`linear_system` times the floor masses); story shears in N, drifts in m
+        (:func:`~cphysfno_opensees.pushover.story_pushover_by`). It stops early, saying so,
+        where a step does not converge or the base shear drops by
+        :data:`~cphysfno_opensees.pushover.STRENGTH_LOSS` on a new excursion."""
+        config = dataclasses.replace(self.frame_config, elastic_interior=False)
+
+        def pusher(shape: np.ndarray, roof: np.ndarray) -> Pushed:
+            return call_in_worker(
+                _push_frame, config, shape, roof, description="pushing the SAC frame"
+            )
+
+        return story_pushover_by(
+            pusher, self.stories(), self.linear_system(), roof_drift_ratio, pattern
+        )
+
     def write_artifacts(self, directory: Path) -> list[Path]:
         """The pushover behind the equivalent linear system: ``pushover.json`` (the curve,
         the initial slope and the story stiffnesses, SI units) and ``pushover.png``."""
@@ -245,6 +276,18 @@ def _pushover(config: FrameConfig, target_drift_ratio: float) -> PushoverCurve:
             target_drift_ratio=target_drift_ratio,
             configure=_static_solver,
         )
+    finally:
+        ops.wipe()
+
+
+def _push_frame(config: FrameConfig, pattern: np.ndarray, roof: np.ndarray) -> Pushed:
+    """Build the frame and :func:`~cphysfno_opensees.pushover.push` it along ``roof`` (m)
+    by ``pattern`` on its floors (runs in a worker process)."""
+    ops = import_opensees()
+    try:
+        frame = build_frame(ops, config)
+        _static_solver(ops)
+        return push(ops, list(frame.floors), 1, pattern, roof, STRENGTH_LOSS)
     finally:
         ops.wipe()
 

@@ -7,17 +7,12 @@ from __future__ import annotations
 import numpy as np
 
 from cphysfno_core import LinearSystem, Stories, StoryPushover
-from cphysfno_core.signals import first_mode_pattern, floor_masses, lateral_pattern
 
 from ..loader import import_opensees
-from ..pushover import Pushed, push
+from ..pushover import STRENGTH_LOSS, Pushed, push, story_pushover_by
 from ..runner import call_in_worker
 from .model import ModelSpec, build_model
 from .source import ScriptError
-
-STRENGTH_LOSS = 0.2
-"""A pushover stops after a point that pushes the roof further than before with less than
-``1 - STRENGTH_LOSS`` of the largest base shear so far."""
 
 
 def story_pushover(
@@ -43,7 +38,8 @@ def story_pushover(
     tops of the stories; the roof follows the protocol by displacement control (Newton,
     the model's constraint handler and tolerance, a step cut into ten where it does not
     converge whole). The analysis stops early, saying so in ``stopped``, where a step does
-    not converge or the base shear drops by :data:`STRENGTH_LOSS` on a new excursion.
+    not converge or the base shear drops by
+    :data:`~cphysfno_opensees.pushover.STRENGTH_LOSS` on a new excursion.
     Story shears are the lateral loads above each story; floor masses are the linear
     system's, condensed onto the floors (:func:`~cphysfno_core.signals.floor_masses`),
     in the script's force unit times s^2/m (kg for a script in SI units).
@@ -59,28 +55,17 @@ def story_pushover(
             f"a pushover of OpenSees script {spec.script} needs stories one above the other "
             f"whose tops are outputs along excitation_dof {spec.excitation_dof}; got tops {tops}"
         )
-    masses = floor_masses(system, stories.upper)
-    if pattern is None:
-        pattern = first_mode_pattern(system, stories.upper, masses)
-    pattern = lateral_pattern(pattern, stories.n_stories)
-    heights = np.asarray(stories.heights_m)
-    ratio = np.asarray(roof_drift_ratio, dtype=np.float64)
-    roof = ratio * heights.sum() / spec.metres_per_unit
     floors = tuple(node for node, _ in tops)
-    pushed: Pushed = call_in_worker(
-        push_model,
-        spec,
-        floors,
-        pattern,
-        roof,
-        description=f"pushing the model of OpenSees script {spec.script}",
+
+    def pusher(shape: np.ndarray, roof: np.ndarray) -> Pushed:
+        return call_in_worker(
+            push_model, spec, floors, shape, roof,
+            description=f"pushing the model of OpenSees script {spec.script}",
+        )  # fmt: skip
+
+    return story_pushover_by(
+        pusher, stories, system, roof_drift_ratio, pattern, spec.metres_per_unit
     )
-    displacement = pushed.floor_displacement * spec.metres_per_unit
-    drift = np.diff(displacement, axis=1, prepend=0.0)
-    loads = pushed.load_factor[:, None] * pattern[None, :]
-    shear = np.cumsum(loads[:, ::-1], axis=1)[:, ::-1]
-    reached = ratio[: displacement.shape[0]]
-    return StoryPushover(reached, drift, shear, masses, heights, pattern, pushed.stopped)
 
 
 def push_model(
