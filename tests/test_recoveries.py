@@ -11,6 +11,7 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core.api.registry import set_registry
+from cphysfno_core.app.inspection import describe_file
 from cphysfno_core.data.recoveries import convergence_summary
 
 CONFIG = {
@@ -83,6 +84,9 @@ def test_generation_counts_the_records_by_what_they_needed_and_keeps_it(registry
     assert {i for i, r in recoveries.items() if r == "a looser test"} == set(
         np.flatnonzero(peak_of > peaks[-4]).tolist()
     )
+    assert cp.load_dataset(path).recoveries == recoveries
+    described = describe_file(path)
+    assert "convergence: 8 complete records needed no retry; 4 needed substeps dt/4" in described
 
 
 def test_a_generation_whose_records_needed_nothing_says_nothing(registry, tmp_path, capsys):

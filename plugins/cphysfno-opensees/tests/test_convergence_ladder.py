@@ -230,3 +230,36 @@ def test_opensees_model_completes_what_a_direct_run_with_the_ladder_completes(sp
         assert responses.recoveries[i] == recovery.hardest
         assert np.all(sm.relative_l2(responses.displacement[i], direct.displacement) < 1e-6)
         assert np.abs(direct.displacement).max() > 0.025  # past the snap
+
+
+def test_a_force_based_rc_frame_scaled_until_it_fails():
+    """The fibre RC frame of examples/models/rc_frame.py (force-based columns, Concrete02
+    and Steel02, P-Delta) under one record at 0.02 s scaled 25 and 35 times: the first
+    needs substeps of dt/10 and completes past 16 % drift, as a direct run with the same
+    ladder does, to round-off; the second stops converging, with or without cphysfno, and
+    is a collapse only where a story has drifted past collapse_drift."""
+    script = sm.EXAMPLES / "models" / "rc_frame.py"
+    outputs = [(11, 1), (21, 1), (31, 1)]
+    limit = 0.25
+    structure = cp.create("structure", "opensees-model", script=str(script),
+                          outputs=[list(o) for o in outputs], gravity="gravity",
+                          collapse_drift=limit, workers=2)  # fmt: skip
+    record = sm.records(n=1, n_steps=501, dt=0.02, peak=1.0, seed=3).acceleration[0]
+    motions = cp.GroundMotions(np.stack([25.0 * record, 35.0 * record]), 0.02)
+    responses = structure.simulate(motions)
+    assert not responses.collapsed[0] and 0 not in responses.non_converged
+    assert responses.recoveries[0] == "substeps dt/10"
+    ladder = structure.params.convergence
+    with counting() as recovery:
+        direct = sm.direct_run(script, outputs, motions.acceleration[0], motions.dt,
+                               gravity=True, convergence=ladder)  # fmt: skip
+    assert recovery.hardest == responses.recoveries[0]
+    assert np.all(sm.relative_l2(responses.displacement[0], direct.displacement) < 1e-6)
+    stories = structure.stories()
+    drift = stories.drifts(np.nan_to_num(responses.displacement[1:]))[0]
+    peak = np.max(np.abs(drift) / np.asarray(stories.heights_m))
+    assert responses.collapsed[1] == (peak > limit)
+    assert responses.collapsed[1] or 1 in responses.non_converged
+    with pytest.raises(AnalysisFailed):
+        sm.direct_run(script, outputs, motions.acceleration[1], motions.dt, gravity=True,
+                      convergence=ladder)  # fmt: skip

@@ -9,6 +9,7 @@ import h5py
 import numpy as np
 
 from ..data.datasets import read_provenance
+from ..data.recoveries import convergence_summary
 from ..signals.errors import DatasetError
 
 
@@ -40,11 +41,15 @@ def _describe_dataset(path: Path, f: h5py.File, records: int) -> str:
     failures = json.loads(f.attrs.get("failures", "{}"))
     collapsed = int(f["collapsed"][...].sum()) if "collapsed" in f else 0
     stopped = json.loads(f.attrs.get("non_converged", "{}"))
+    recoveries = {int(i): m for i, m in json.loads(f.attrs.get("recoveries", "{}")).items()}
+    complete = ~f["collapsed"][...] if "collapsed" in f else np.ones(f["u"].shape[0], bool)
+    complete[[int(i) for i in (*failures, *stopped)]] = False
     lines += [
         f"  failed records: {len(failures)}",
         f"  collapsed records: {collapsed}",
         f"  non-converged records (below the collapse): {len(stopped)}",
         *(f"    record {index}: {cause}" for index, cause in list(stopped.items())[:5]),
+        *([f"  {summary}"] if (summary := convergence_summary(recoveries, complete)) else []),
         "",
     ]
     arrays: list[tuple[str, h5py.Dataset]] = []

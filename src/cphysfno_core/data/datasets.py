@@ -53,6 +53,8 @@ class Dataset:
             out of :meth:`rows`, listed by :meth:`non_converged_rows`.
         response_channels: the named responses the structure recorded (each an extra
             channel ``[N, T, 1]`` in its unit).
+        recoveries: record index -> the hardest measure its analysis needed to converge
+            (an OpenSees structure's convergence ladder), for the records that needed one.
     """
 
     ag: np.ndarray
@@ -67,6 +69,7 @@ class Dataset:
     collapsed: np.ndarray | None = None
     non_converged: dict[int, str] = field(default_factory=dict)
     response_channels: tuple[ResponseChannel, ...] = ()
+    recoveries: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
@@ -309,6 +312,9 @@ def load_dataset(path: str | Path) -> Dataset:
                 },
                 provenance=read_provenance(f),
                 collapsed=f["collapsed"][...] if "collapsed" in f else None,
+                recoveries={
+                    int(k): v for k, v in json.loads(f.attrs.get("recoveries", "{}")).items()
+                },
                 response_channels=tuple(
                     ResponseChannel(**c) for c in json.loads(f.attrs.get("response_channels", "[]"))
                 ),
