@@ -118,3 +118,48 @@ def test_a_response_the_model_cannot_give_is_refused_when_the_model_is_built(
 def test_response_settings_are_checked_with_the_config(springs, responses, message):
     with pytest.raises(cp.ConfigError, match=message):
         _model(springs, *responses)
+
+
+def test_a_run_with_an_isolation_level_and_a_base_shear_gives_demands_pelicun_loads(tmp_path):
+    """The isolated building of examples/models/isolated_building.py, its stories over the
+    base (the isolation level, a floor no story ends at) and the isolators' shear and the
+    middle isolator's deformation recorded: `cphysfno demands` writes the surrogate's
+    demands, and the simulated EDPs with the named responses, both load in pelicun."""
+    pelicun = pytest.importorskip("pelicun.assessment")
+    from cphysfno_core.app.cli import main
+    from cphysfno_core.reporting.demands import write_pelicun_demands
+
+    shear = {"name": "base_shear", "kind": "nodeReaction", "nodes": [1, 2, 3], "dof": 1,
+             "scale": -1.0, "unit": "kN", "pelicun_type": "VB", "pelicun_location": 0}
+    isolator = {"name": "isolator", "kind": "eleResponse", "elements": [2],
+                "args": ["basicDeformation"], "unit": "m", "pelicun_type": "BRD"}  # fmt: skip
+    structure = {
+        "name": "opensees-model", "script": str(sm.EXAMPLES / "models" / "isolated_building.py"),
+        "outputs": [[11, 1], [21, 1], [31, 1], [41, 1]], "gravity": "gravity",
+        "drift_pairs": [[11, 21], [21, 31], [31, 41]], "responses": [shear, isolator],
+    }  # fmt: skip
+    pipeline.run(sm.tiny_run(structure), tmp_path)
+    assert main(["demands", str(tmp_path)]) == 0
+    written = tmp_path / "demands" / "demands.csv"
+    header = written.read_text().splitlines()[0].split(",")
+    assert [c for c in header if "-PFA-" in c] == [f"1-PFA-{k}-1" for k in range(5)]
+    assert [c for c in header if "-PID-" in c] == [f"1-PID-{s}-1" for s in range(1, 4)]
+    run = pelicun.Assessment({"PrintLog": False})
+    run.demand.load_sample(str(written))
+    assert len(run.demand.sample) == 2  # the two test records
+
+    data = cp.load_dataset(tmp_path / "dataset.h5")
+    model = cp.create("structure", **structure)
+    rows = data.rows("test")
+    simulated = edp.compute(
+        cp.Responses(data.u[rows], data.dt, extras={k: data.extras[k][rows] for k in
+                     ("base_shear", "isolator", edp.ACCELERATION_EXTRA)}),
+        model, cp.GroundMotions(data.ag[rows], data.dt),
+    )  # fmt: skip
+    both = write_pelicun_demands(tmp_path / "simulated.csv", simulated)
+    assert both.columns[-2:] == ("1-VB-0-1", "1-BRD-1-1") and both.units[-2:] == ("kN", "m")
+    run = pelicun.Assessment({"PrintLog": False})
+    run.demand.load_sample(str(both.path))
+    np.testing.assert_allclose(
+        run.demand.sample[("VB", "0", "1")], 1000.0 * simulated["PR"][:, 0], rtol=1e-6
+    )  # kN in the file, N in pelicun
