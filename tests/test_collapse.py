@@ -11,7 +11,6 @@ import pytest
 import toy_components
 
 import cphysfno_core as cp
-from cphysfno_core.api.registry import set_registry
 from cphysfno_core.app import pipeline
 from cphysfno_core.app.cli import main
 from cphysfno_core.app.inspection import describe_file
@@ -73,10 +72,8 @@ def cphysfno_structures():
 
 @pytest.fixture
 def registry():
-    registry = cp.Registry(autoload=False, plugins=(toy_components, sys.modules[__name__]))
-    set_registry(registry)
-    yield registry
-    set_registry(None)
+    with toy_components.registered(sys.modules[__name__]) as registry:
+        yield registry
 
 
 def test_collapsed_records_are_kept_flagged_and_left_out_of_training(registry, tmp_path):

@@ -10,7 +10,6 @@ import pytest
 import toy_components
 
 import cphysfno_core as cp
-from cphysfno_core.api.registry import set_registry
 from cphysfno_core.app.inspection import describe_file
 from cphysfno_core.data.recoveries import convergence_summary
 
@@ -57,10 +56,8 @@ def cphysfno_structures():
 
 @pytest.fixture
 def registry():
-    registry = cp.Registry(autoload=False, plugins=(toy_components, sys.modules[__name__]))
-    set_registry(registry)
-    yield registry
-    set_registry(None)
+    with toy_components.registered(sys.modules[__name__]) as registry:
+        yield registry
 
 
 def test_generation_counts_the_records_by_what_they_needed_and_keeps_it(registry, tmp_path, capsys):

@@ -11,7 +11,6 @@ import toy_components
 from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
-from cphysfno_core.api.registry import set_registry
 from cphysfno_core.app.cli import main
 from cphysfno_core.reporting import figures
 from cphysfno_core.reporting.paper_tables import PAPER_TABLES, paper_table
@@ -47,10 +46,8 @@ def registry():
     plugin = types.ModuleType("extras")
     plugin.cphysfno_ground_motions = cp.hookimpl(lambda: [BandedSource])
     plugin.cphysfno_structures = cp.hookimpl(lambda: [PushedStructure])
-    registry = cp.Registry(autoload=False, plugins=(toy_components, plugin))
-    set_registry(registry)
-    yield registry
-    set_registry(None)
+    with toy_components.registered(plugin) as registry:
+        yield registry
 
 
 CONFIG = toy_experiment(

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 import torch
@@ -326,3 +330,17 @@ def cphysfno_operators():
 @cp.hookimpl
 def cphysfno_refiners():
     return [ToyRefiner, CalibratedToyRefiner]
+
+
+@contextlib.contextmanager
+def registered(*plugins: ModuleType) -> Iterator[cp.Registry]:
+    """The global registry, while the block runs, of the toy components and ``plugins``
+    (modules with hook implementations) alone, no installed plugin loaded."""
+    from cphysfno_core.api.registry import set_registry
+
+    registry = cp.Registry(autoload=False, plugins=(sys.modules[__name__], *plugins))
+    set_registry(registry)
+    try:
+        yield registry
+    finally:
+        set_registry(None)

@@ -18,16 +18,6 @@ SPRING_FLOORS = [[1, 1], [2, 1], [3, 1]]
 
 
 @pytest.fixture(scope="module")
-def folder(tmp_path_factory):
-    return tmp_path_factory.mktemp("damping")
-
-
-@pytest.fixture(scope="module")
-def frame_script(folder):
-    return sm.frame(folder)
-
-
-@pytest.fixture(scope="module")
 def springs_script(folder):
     """Three stories of Steel01 springs on the ground's elevation, the springs taking the
     stiffness part of Rayleigh damping (``-doRayleigh 1``)."""

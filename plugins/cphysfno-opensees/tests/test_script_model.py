@@ -17,16 +17,6 @@ FLOORS = [[11, 1], [21, 1]]
 
 
 @pytest.fixture(scope="module")
-def folder(tmp_path_factory):
-    return tmp_path_factory.mktemp("scripts")
-
-
-@pytest.fixture(scope="module")
-def frame_script(folder):
-    return sm.frame(folder)
-
-
-@pytest.fixture(scope="module")
 def frame(frame_script):
     """The two-story frame with its gravity loads, 5 % Rayleigh damping in modes 1 and 2."""
     return cp.create(
