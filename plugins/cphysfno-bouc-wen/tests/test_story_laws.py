@@ -9,6 +9,7 @@ import pytest
 from cphysfno_core import ConfigError, LawFunctions, Params, StoryLaw, create
 from cphysfno_core.testing import check_story_law
 from cphysfno_core.testing.story_law import cyclic_drift, drive
+from cphysfno_opensees.uniaxial import uniaxial_stress
 
 from cphysfno_bouc_wen.laws import BUILT_IN_LAWS, BilinearLaw, PeakOrientedLaw
 from cphysfno_bouc_wen.laws.bilinear import bilinear_force, bilinear_rate, bilinear_settle
@@ -43,21 +44,6 @@ def _path() -> np.ndarray:
     return np.concatenate([path, path[-1] + 8.0 * YIELD * (walk - walk[0]) / np.abs(walk).max()])
 
 
-def _opensees_loop(material: list, path: np.ndarray) -> np.ndarray:
-    from cphysfno_opensees.loader import import_opensees
-
-    ops = import_opensees()
-    ops.wipe()
-    ops.uniaxialMaterial(*material)
-    ops.testUniaxialMaterial(material[1])
-    stress = []
-    for strain in path:
-        ops.setStrain(float(strain))
-        stress.append(ops.getStress())
-    ops.wipe()
-    return np.array(stress)
-
-
 def _law_loop(law: StoryLaw, path: np.ndarray) -> np.ndarray:
     coefficients = law.coefficients(np.array([STIFFNESS]))[0]
     return drive(law.functions(), law.n_states, coefficients, path)
@@ -65,7 +51,7 @@ def _law_loop(law: StoryLaw, path: np.ndarray) -> np.ndarray:
 
 def test_bilinear_follows_opensees_steel01() -> None:
     path = _path()
-    reference = _opensees_loop(["Steel01", 1, STIFFNESS * YIELD, STIFFNESS, ALPHA], path)
+    reference = uniaxial_stress(["Steel01", 1, STIFFNESS * YIELD, STIFFNESS, ALPHA], path)
     loop = _law_loop(BilinearLaw(alpha=ALPHA, yield_displacement=YIELD), path)
     assert np.max(np.abs(loop - reference)) < 1e-3 * np.max(np.abs(reference))
 
@@ -75,7 +61,7 @@ def test_peak_oriented_follows_opensees_hysteretic_without_pinching_or_damage() 
     fy, far = STIFFNESS * YIELD, 11.0 * YIELD
     strength = fy + ALPHA * STIFFNESS * (far - YIELD)
     material = ["Hysteretic", 1, fy, YIELD, strength, far, -fy, -YIELD, -strength, -far]
-    reference = _opensees_loop([*material, 1.0, 1.0, 0.0, 0.0, 0.0], path)
+    reference = uniaxial_stress([*material, 1.0, 1.0, 0.0, 0.0, 0.0], path)
     loop = _law_loop(PeakOrientedLaw(alpha=ALPHA, yield_displacement=YIELD), path)
     assert np.max(np.abs(loop - reference)) < 1e-3 * np.max(np.abs(reference))
     # the reloading stiffness after the largest cycle is well below the initial one

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from cphysfno_bouc_wen.laws import PinchingLaw
-from cphysfno_opensees.loader import import_opensees
+from cphysfno_opensees.uniaxial import uniaxial_stress
 
 from cphysfno_core.testing.story_law import cyclic_drift, drive
 
@@ -47,18 +47,11 @@ def _history() -> np.ndarray:
 
 
 def _opensees(pinch_x: float, pinch_y: float, beta: float, path: np.ndarray) -> np.ndarray:
-    ops = import_opensees()
-    ops.wipe()
     fy, strength = K * U_Y, K * U_Y + ALPHA * K * (FAR - U_Y)
     backbone = [fy, U_Y, strength, FAR, -fy, -U_Y, -strength, -FAR]
-    ops.uniaxialMaterial("Hysteretic", 1, *backbone, pinch_x, pinch_y, 0.0, 0.0, beta)
-    ops.testUniaxialMaterial(1)
-    stress = []
-    for strain in path:
-        ops.setStrain(float(strain))
-        stress.append(ops.getStress())
-    ops.wipe()
-    return np.array(stress)
+    return uniaxial_stress(
+        ["Hysteretic", 1, *backbone, pinch_x, pinch_y, 0.0, 0.0, beta], path
+    )
 
 
 def _law(pinch_x: float, pinch_y: float, beta: float, path: np.ndarray) -> np.ndarray:
