@@ -1,6 +1,7 @@
 """Every registered component passes the conformance checks of its kind, and the checks
 catch components that break their contract."""
 
+import copy
 from pathlib import Path
 
 import numpy as np
@@ -41,50 +42,62 @@ def _create(kind, name):
     return REGISTRY.create(kind, name, **EXAMPLE_PARAMS.get((kind, name), {}))
 
 
-@pytest.mark.parametrize("name", _names("structure"))
-def test_registered_structures_conform(name):
-    testing.check_structure(_create("structure", name))
+STRUCTURES = [_create("structure", name) for name in _names("structure")]
+PREPROCESSORS = [REGISTRY.create("preprocessor", name) for name in _names("preprocessor")]
 
 
-@pytest.mark.parametrize("name", _names("story_law"))
-def test_registered_story_laws_conform(name):
-    testing.check_story_law(_create("story_law", name))
-
-
-@pytest.mark.parametrize("name", _names("ground_motion"))
-def test_registered_ground_motion_sources_conform(name):
-    testing.check_ground_motion_source(REGISTRY.create("ground_motion", name))
-
-
-@pytest.mark.parametrize("name", _names("preprocessor"))
-@pytest.mark.parametrize("structure_name", _names("structure"))
-def test_registered_preprocessors_conform_or_refuse(name, structure_name):
-    structure = _create("structure", structure_name)
-    preprocessor = REGISTRY.create("preprocessor", name)
+def _works_on(preprocessor, structure):
     try:
-        preprocessor.fit(structure)
-    except cp.CapabilityError as error:
-        assert structure_name in str(error) and name in str(error)
-        return
-    testing.check_preprocessor(REGISTRY.create("preprocessor", name), structure)
+        preprocessor.check(structure)
+    except cp.CapabilityError:
+        return False
+    return True
 
 
-@pytest.mark.parametrize("name", _names("operator"))
-def test_registered_operators_conform(name):
-    testing.check_operator(REGISTRY.get("operator", name))
+REGISTERED = [
+    *STRUCTURES,
+    *(_create("story_law", name) for name in _names("story_law")),
+    *(REGISTRY.create("ground_motion", name) for name in _names("ground_motion")),
+    *((p, s) for p in PREPROCESSORS for s in STRUCTURES if _works_on(p, s)),
+    *(REGISTRY.get("operator", name) for name in _names("operator")),
+    *(REGISTRY.create("refiner", name) for name in _names("refiner")),
+]
+"""Every registered component; a preprocessor with each structure it works on."""
 
 
-@pytest.mark.parametrize("name", _names("refiner"))
-def test_registered_refiners_conform(name):
-    testing.check_refiner(REGISTRY.create("refiner", name))
+@testing.parametrize_with_checks(REGISTERED)
+def test_registered_components_conform(component, check):
+    check(component)
 
 
-def test_the_toy_components_conform():
-    structure = toy_components.ToyStructure(cubic=3.0)
-    testing.check_structure(structure)
-    testing.check_ground_motion_source(toy_components.ToySource())
-    testing.check_preprocessor(toy_components.ToyPreprocessor(), structure)
-    testing.check_refiner(toy_components.ToyRefiner())
+@pytest.mark.parametrize(
+    "preprocessor, structure",
+    [
+        pytest.param(p, s, id=f"{p.name}-on-{s.name}")
+        for p in PREPROCESSORS
+        for s in STRUCTURES
+        if not _works_on(p, s)
+    ],
+)
+def test_registered_preprocessors_refuse_what_they_do_not_work_on(preprocessor, structure):
+    with pytest.raises(cp.CapabilityError) as refusal:
+        copy.deepcopy(preprocessor).fit(structure)
+    assert structure.name in str(refusal.value) and preprocessor.name in str(refusal.value)
+
+
+TOY_STRUCTURE = toy_components.ToyStructure(cubic=3.0)
+
+
+@testing.parametrize_with_checks(
+    [
+        TOY_STRUCTURE,
+        toy_components.ToySource(),
+        (toy_components.ToyPreprocessor(), TOY_STRUCTURE),
+        toy_components.ToyRefiner(),
+    ]
+)
+def test_the_toy_components_conform(component, check):
+    check(component)
 
 
 class DriftingStructure(toy_components.ToyStructure):
@@ -221,6 +234,51 @@ class FrozenZeroOperator(toy_components.ToyOperator):
 def test_checks_catch_broken_contracts(check, component, message):
     with pytest.raises(AssertionError, match=message):
         check(component)
+
+
+def test_each_check_of_each_component_is_a_case_named_after_both():
+    mark = testing.parametrize_with_checks(
+        [
+            TOY_STRUCTURE,
+            (toy_components.ToyPreprocessor(), TOY_STRUCTURE),
+            toy_components.ToyOperator,
+            (toy_components.ToyOperator, {"width": 4}),
+        ]
+    )
+    assert mark.args[0] == "component, check"
+    ids = [case.id for case in mark.args[1]]
+    assert ids[0] == "toy-structure-check_outputs_are_named"
+    assert "toy-structure-check_simulate_shape" in ids
+    assert "toy-linear-on-toy-structure-check_z_shape" in ids
+    assert ids.count("toy-operator-check_output_shape") == 2
+    for case in mark.args[1]:
+        subject, check = case.values
+        if case.id.startswith("toy-linear-on-"):
+            assert isinstance(subject, toy_components.ToyPreprocessor)
+            assert check.keywords == {"structure": TOY_STRUCTURE}
+
+
+@pytest.mark.parametrize(
+    "component, broken",
+    [
+        (ForgetfulRefiner(), "forgetful-check_state_dict_round_trip"),
+        (DriftingStructure(), "drifting-check_rest_stays_at_rest"),
+        (DeclaredRestoringForce(), "declared-only-check_declared_capabilities"),
+    ],
+)
+def test_a_broken_component_fails_the_check_of_what_it_breaks_alone(component, broken):
+    failed = []
+    for subject, check, case_id in testing.component_checks(component):
+        try:
+            check(subject)
+        except AssertionError:
+            failed.append(case_id)
+    assert failed == [broken]
+
+
+def test_what_is_not_a_component_is_refused():
+    with pytest.raises(TypeError, match="not a component to check"):
+        testing.parametrize_with_checks([toy_components.ToyPreprocessor()])
 
 
 def test_operator_check_wants_the_packages_error_for_bad_input():

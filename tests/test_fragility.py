@@ -9,6 +9,7 @@ import scipy.stats
 import cphysfno_core as cp
 from cphysfno_core import InputError
 from cphysfno_core.app.fragility_study import draw
+from cphysfno_core.app.metrics_document import MetricsDocument
 from cphysfno_core.reporting.fragility import (
     Fragility,
     fit_lognormal,
@@ -111,6 +112,12 @@ def test_a_finite_source_is_drawn_in_rounds_until_there_are_enough():
     assert single.n_records == 2 and largest == 2
 
 
+def _metrics(rows):
+    """A metrics.json of ``rows`` (label -> the keys that matter), each with test errors."""
+    models = {label: {"rmse": [0.0], "rel_l2": [0.1], **row} for label, row in rows.items()}
+    return MetricsDocument(models=models, output_names=["roof"], sizes={}, epochs=1)
+
+
 def test_the_default_model_is_the_best_on_validation_rel_l2_without_edps():
     from cphysfno_core.app.fragility_study import default_model
 
@@ -121,10 +128,10 @@ def test_the_default_model_is_the_best_on_validation_rel_l2_without_edps():
         "refined-c-physfno-els": {"validation_rel_l2": [0.21, 0.21], "rel_l2": [0.1, 0.1]},
         "refined-c-physfno-relaxed": {"validation_rel_l2": [0.3], "rel_l2": [0.1]},
     }
-    assert default_model({"models": rows}) == "c-physfno-els"
+    assert default_model(_metrics(rows)) == "c-physfno-els"
     rows["refined-c-physfno-els"]["validation_rel_l2"] = [0.18, 0.18]
-    assert default_model({"models": rows}) == "refined-c-physfno-els"
-    assert default_model({"models": {"fno": rows["fno"]}}) == "fno"
+    assert default_model(_metrics(rows)) == "refined-c-physfno-els"
+    assert default_model(_metrics({"fno": rows["fno"]})) == "fno"
 
 
 def _edp_errors(pid: list[float], pfa: list[float]) -> dict:
@@ -143,6 +150,6 @@ def test_the_default_model_is_the_best_on_validation_edp_error_of_the_demands():
         },
     }
     # PID alone: fno 0.06 < 0.07; PID and PFA: c-physfno-els (0.08+0.06+0.1)/3 < 0.207
-    assert default_model({"models": rows}, ("PID",)) == "fno"
-    assert default_model({"models": rows}, ("PID", "PFA")) == "c-physfno-els"
-    assert default_model({"models": rows}) == "c-physfno-els"
+    assert default_model(_metrics(rows), ("PID",)) == "fno"
+    assert default_model(_metrics(rows), ("PID", "PFA")) == "c-physfno-els"
+    assert default_model(_metrics(rows)) == "c-physfno-els"

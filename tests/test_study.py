@@ -14,6 +14,7 @@ import cphysfno_core as cp
 from cphysfno_core.api.registry import set_registry
 from cphysfno_core.app import pipeline, study
 from cphysfno_core.app.cli import main
+from cphysfno_core.app.study_document import StudySummary
 from cphysfno_core.app.study_report import write_study_report
 
 BASE = {
@@ -64,28 +65,29 @@ def test_the_summary_is_the_mean_and_std_of_the_table_runs(finished):
     runs = [json.loads((out / f"runs/table/seed-{s}/metrics.json").read_text()) for s in (0, 1)]
     label = "c-phystoy-operator-toy-linear"
     per_seed = np.array([r["models"][label]["rel_l2"] for r in runs])
-    np.testing.assert_allclose(summary["models"][label]["rel_l2"]["mean"], per_seed.mean(0))
-    np.testing.assert_allclose(summary["models"][label]["rel_l2"]["std"], per_seed.std(0))
-    assert summary["models"]["physics-toy-linear"]["rmse"]["std"] == [0.0, 0.0]
-    refined = summary["models"]["refined-c-phystoy-operator-toy-linear"]
+    np.testing.assert_allclose(summary.models[label].rel_l2.mean, per_seed.mean(0))
+    np.testing.assert_allclose(summary.models[label].rel_l2.std, per_seed.std(0))
+    assert summary.models["physics-toy-linear"].rmse.std == [0.0, 0.0]
+    assert summary.seeds == [0, 1] and summary.epochs == 2
+    assert summary.sizes == {"train": 10, "val": 4, "test": 5}
+    assert summary.device == runs[0]["models"][label]["device"]
+    assert summary.device.startswith("CPU (")
+    written = json.loads((out / "study.json").read_text())
+    assert written["schema_version"] == 1 and StudySummary.read(out / "study.json") == summary
+    refined = written["models"]["refined-c-phystoy-operator-toy-linear"]
     assert set(refined) == {"rel_l2", "rmse", "coverage_68", "coverage_90"}
-    assert summary["seeds"] == [0, 1] and summary["epochs"] == 2
-    assert summary["sizes"] == {"train": 10, "val": 4, "test": 5}
-    assert summary["device"] == runs[0]["models"][label]["device"]
-    assert summary["device"].startswith("CPU (")
-    assert json.loads((out / "study.json").read_text()) == summary
 
 
 def test_sweeps_train_the_baseline_and_the_chosen_physics_per_value_and_seed(finished):
     out, summary = finished
-    size = summary["sweeps"]["size"]
-    assert size["field"] == "training.train_records" and size["label"] == "records"
-    assert set(size["rel_l2"]) == {
+    size = summary.sweeps["size"]
+    assert size.field == "training.train_records" and size.label == "records"
+    assert set(size.rel_l2) == {
         "toy-operator",
         "c-phystoy-operator-toy-linear",
         "physics-toy-linear",
     }
-    assert {v: len(seeds) for v, seeds in size["rel_l2"]["toy-operator"].items()} == {
+    assert {v: len(seeds) for v, seeds in size.rel_l2["toy-operator"].items()} == {
         "4": 2,
         "10": 2,
     }
@@ -123,17 +125,17 @@ def test_a_study_in_progress_is_summarised_from_its_finished_runs(finished, tmp_
     config = _config()
     label = "c-phystoy-operator-toy-linear"
     now = study.summarise_finished(config, partial)
-    assert now["seeds"] == [0]
-    assert now["models"][label]["rel_l2"]["std"] == [0.0, 0.0]
+    assert now.seeds == [0]
+    assert now.models[label].rel_l2.std == [0.0, 0.0]
     seed_0 = json.loads((out / "runs/table/seed-0/metrics.json").read_text())
-    assert now["models"][label]["rel_l2"]["mean"] == seed_0["models"][label]["rel_l2"]
-    assert now["sweeps"]["width"]["values"] == [4]
-    assert now["sweeps"]["size"] == summary["sweeps"]["size"]
+    assert now.models[label].rel_l2.mean == seed_0["models"][label]["rel_l2"]
+    assert now.sweeps["width"].values == [4]
+    assert now.sweeps["size"] == summary.sweeps["size"]
     report = write_study_report(config, now, partial).read_text()
     assert "in progress: 1 of the config's 2 seeds have finished" in report
     for seed in (0, 1):
         (partial / f"runs/width/4/seed-{seed}/metrics.json").unlink()
-    assert "width" not in study.summarise_finished(config, partial)["sweeps"]
+    assert "width" not in study.summarise_finished(config, partial).sweeps
     (partial / "runs/table/seed-0/metrics.json").unlink()
     with pytest.raises(cp.ConfigError, match="no table run of the study in .* has finished"):
         study.summarise_finished(config, partial)
@@ -149,16 +151,16 @@ def test_runs_in_parallel_processes_give_the_serial_study(
     parallel.mkdir()
     shutil.copy(out / "dataset.h5", parallel / "dataset.h5")
     result = study.run_study(_config(), parallel, jobs=2)
-    for label, row in summary["models"].items():
+    for label, row in summary.models.items():
         for metric in ("rel_l2", "rmse"):
             np.testing.assert_allclose(
-                result["models"][label][metric]["mean"], row[metric]["mean"], rtol=1e-5
+                getattr(result.models[label], metric).mean, getattr(row, metric).mean, rtol=1e-5
             )
-    for name, sweep in summary["sweeps"].items():
-        for label, per_value in sweep["rel_l2"].items():
+    for name, sweep in summary.sweeps.items():
+        for label, per_value in sweep.rel_l2.items():
             for value, seeds in per_value.items():
                 np.testing.assert_allclose(
-                    result["sweeps"][name]["rel_l2"][label][value], seeds, rtol=1e-5
+                    result.sweeps[name].rel_l2[label][value], seeds, rtol=1e-5
                 )
     printed = capsys.readouterr().err
     assert "10 of 10 study runs left" in printed
@@ -382,7 +384,7 @@ def test_a_training_size_sweep_draws_the_edp_learning_curve_with_the_baselines(
         },
     )
     summary = study.run_study(config, tmp_path)
-    curve = summary["sweeps"]["size"]["edp"]
+    curve = summary.sweeps["size"].edp
     assert {"baseline-cloud", "baseline-gp", "toy-operator", "physics-toy-linear"} <= set(curve)
     small = json.loads((tmp_path / "runs/size/6/seed-0/metrics.json").read_text())
     cloud = small["baselines"]["baseline-cloud"]["edp"]
@@ -392,8 +394,8 @@ def test_a_training_size_sweep_draws_the_edp_learning_curve_with_the_baselines(
     assert large["baselines"]["baseline-cloud"]["edp"] != cloud
     table = json.loads((tmp_path / "runs/table/seed-0/metrics.json").read_text())
     pid = table["models"]["toy-operator"]["edp"]["PID"]["median"]
-    np.testing.assert_allclose(summary["models"]["toy-operator"]["pid_median"]["mean"], pid)
-    assert set(summary["baselines"]) == {"baseline-cloud", "baseline-gp"}
+    np.testing.assert_allclose(summary.models["toy-operator"].pid_median.mean, pid)
+    assert set(summary.baselines) == {"baseline-cloud", "baseline-gp"}
 
     report = write_study_report(config, summary, tmp_path).read_text()
     assert "## EDP errors (test split)" in report and "| baseline-gp |" in report

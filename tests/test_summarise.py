@@ -10,6 +10,7 @@ import cphysfno_core as cp
 from cphysfno_core import ConfigError
 from cphysfno_core.app.cli import main
 from cphysfno_core.app.study import summarise_runs
+from cphysfno_core.app.study_document import StudySummary
 from cphysfno_core.app.summary_combination import combine_summaries
 
 
@@ -58,15 +59,14 @@ def test_runs_that_do_not_match_or_are_unfinished_are_refused(toy_registry, tmp_
 
 
 def _summary_of(rows, seeds, sweep_rows=None):
-    """A study.json of per-seed ``rows`` (seed -> label -> [n_outputs]) by hand."""
+    """A study.json of per-seed ``rows`` (seed -> label -> [n_outputs]) by hand, its RMSE
+    the relative L2 and its rows marked with where they come from."""
     labels = rows[seeds[0]]
     models = {}
     for label in labels:
         values = np.array([rows[s][label] for s in seeds])
-        models[label] = {
-            "rel_l2": {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()},
-            "selected_on": "validation",
-        }
+        statistics = {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()}
+        models[label] = {"rel_l2": statistics, "rmse": statistics, "selected_on": "validation"}
     sweeps = {}
     if sweep_rows is not None:
         sweeps["layers"] = {
@@ -75,16 +75,16 @@ def _summary_of(rows, seeds, sweep_rows=None):
             "values": [2, 4],
             "rel_l2": {"fno": {"2": [sweep_rows[s] for s in seeds], "4": []}},
         }
-    return {
-        "models": models,
-        "sweeps": sweeps,
-        "seeds": list(seeds),
-        "epochs": 100,
-        "sizes": {"train": 400, "val": 100, "test": 200},
-        "output_names": ["story-1", "story-2", "story-3"],
-        "response_rms": [0.01, 0.02, 0.03],
-        "device": f"machine {seeds[0]}, CPU (x86_64, {len(seeds)} threads)",
-    }
+    return StudySummary(
+        models=models,
+        sweeps=sweeps,
+        seeds=list(seeds),
+        epochs=100,
+        sizes={"train": 400, "val": 100, "test": 200},
+        output_names=["story-1", "story-2", "story-3"],
+        response_rms=[0.01, 0.02, 0.03],
+        device=f"machine {seeds[0]}, CPU (x86_64, {len(seeds)} threads)",
+    )
 
 
 def test_summaries_of_disjoint_seeds_combine_to_the_summary_of_all():
@@ -98,20 +98,17 @@ def test_summaries_of_disjoint_seeds_combine_to_the_summary_of_all():
     combined = combine_summaries(parts)
     for label in ("fno", "c-physfno-els"):
         values = np.array([rows[s][label] for s in range(10)])
-        np.testing.assert_allclose(
-            combined["models"][label]["rel_l2"]["mean"], values.mean(axis=0), rtol=1e-12
-        )
-        np.testing.assert_allclose(
-            combined["models"][label]["rel_l2"]["std"], values.std(axis=0), rtol=1e-10
-        )
-        assert combined["models"][label]["selected_on"] == "validation"
-    assert combined["seeds"] == list(range(10))
-    assert combined["sweeps"]["layers"]["rel_l2"]["fno"]["2"] == [sweep_rows[s] for s in range(10)]
+        row = combined.models[label]
+        np.testing.assert_allclose(row.rel_l2.mean, values.mean(axis=0), rtol=1e-12)
+        np.testing.assert_allclose(row.rel_l2.std, values.std(axis=0), rtol=1e-10)
+        assert row.selected_on == "validation"
+    assert combined.seeds == list(range(10))
+    assert combined.sweeps["layers"].rel_l2["fno"]["2"] == [sweep_rows[s] for s in range(10)]
     devices = "machine 0, CPU (x86_64, 6 threads), machine 6, CPU (x86_64, 2 threads), machine 8"
-    assert combined["device"] == devices
-    parts[0]["response_rms"] = None  # written before summaries recorded the test response
-    assert combine_summaries(parts)["response_rms"] == [0.01, 0.02, 0.03]
-    parts[2]["response_rms"] = [0.01, 0.02, 0.04]  # the two that record it disagree
+    assert combined.device == devices
+    parts[0].response_rms = None  # written before summaries recorded the test response
+    assert combine_summaries(parts).response_rms == [0.01, 0.02, 0.03]
+    parts[2].response_rms = [0.01, 0.02, 0.04]  # the two that record it disagree
     with pytest.raises(ConfigError, match="summary 2 has another test response"):
         combine_summaries(parts)
 
@@ -124,7 +121,7 @@ def test_summaries_of_other_models_on_the_same_seeds_combine_to_the_summary_of_a
 
     def share(models, seeds):
         summary = _summary_of(rows, seeds)
-        summary["models"] = {label: summary["models"][label] for label in models}
+        summary.models = {label: summary.models[label] for label in models}
         return summary
 
     parts = [
@@ -133,17 +130,17 @@ def test_summaries_of_other_models_on_the_same_seeds_combine_to_the_summary_of_a
         share(labels, [2, 3]),
     ]
     combined, whole = combine_summaries(parts), _summary_of(rows, [0, 1, 2, 3])
-    assert combined["seeds"] == [0, 1, 2, 3]
+    assert combined.seeds == [0, 1, 2, 3]
     for label in labels:
         for key in ("mean", "std"):
             np.testing.assert_allclose(
-                combined["models"][label]["rel_l2"][key],
-                whole["models"][label]["rel_l2"][key],
+                getattr(combined.models[label].rel_l2, key),
+                getattr(whole.models[label].rel_l2, key),
                 rtol=1e-12,
                 atol=1e-15,
             )
     # the physics alone does not depend on the seed: another row is other data
-    parts[1]["models"]["physics-els"]["rel_l2"]["mean"][0] = 0.7
+    parts[1].models["physics-els"].rel_l2.mean[0] = 0.7
     with pytest.raises(ConfigError, match="physics-els differs between the summaries"):
         combine_summaries(parts)
 
@@ -151,11 +148,14 @@ def test_summaries_of_other_models_on_the_same_seeds_combine_to_the_summary_of_a
 @pytest.mark.parametrize(
     "change, message",
     [
-        (lambda s: s.update(seeds=[5, 6]), r"seeds \[5\] are in more than one summary"),
-        (lambda s: s.update(sizes={"train": 300, "val": 100, "test": 200}), "summary 1 has sizes"),
-        (lambda s: s["models"].pop("fno"), r"end on different seeds \(fno \[0, 1, 2, 3, 4, 5\]"),
-        (lambda s: s.update(response_rms=[0.01, 0.02, 0.04]), "another test response"),
-        (lambda s: s["models"]["fno"].update(selected_on="test"), "fno: selected_on differs"),
+        (lambda s: setattr(s, "seeds", [5, 6]), r"seeds \[5\] are in more than one summary"),
+        (
+            lambda s: setattr(s, "sizes", {"train": 300, "val": 100, "test": 200}),
+            "summary 1 has sizes",
+        ),
+        (lambda s: s.models.pop("fno"), r"end on different seeds \(fno \[0, 1, 2, 3, 4, 5\]"),
+        (lambda s: setattr(s, "response_rms", [0.01, 0.02, 0.04]), "another test response"),
+        (lambda s: setattr(s.models["fno"], "selected_on", "test"), "fno: selected_on differs"),
     ],
 )
 def test_summaries_that_do_not_combine_are_refused(change, message):

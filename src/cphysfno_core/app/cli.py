@@ -19,6 +19,7 @@ from ..config.experiment import ExperimentConfig, load_config
 from ..config.precision import PRECISIONS
 from ..signals.errors import ConfigError, CphysfnoError
 from ..signals.progress import QUIET, show_progress
+from .study_document import StudySummary
 
 
 def components_markdown(registry: Registry) -> str:
@@ -158,7 +159,7 @@ def _study(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     if args.summary_only:
         summary = summarise_finished(config, out)
-        (out / SUMMARY).write_text(json.dumps(summary, indent=2))
+        summary.write(out / SUMMARY)
     else:
         summary = run_study(config, out, jobs=args.jobs)
     report = write_study_report(config, summary, out)
@@ -186,11 +187,11 @@ def _summarise(args: argparse.Namespace) -> int:
         raise ConfigError(f"no summary file {', '.join(missing)}")
     folders = [path for path in paths if path.suffix != ".json"]
     parts = [summarise_runs(folders)] if folders else []
-    parts += [json.loads(path.read_text()) for path in files]
+    parts += [StudySummary.read(path) for path in files]
     summary = parts[0] if len(parts) == 1 else combine_summaries(parts)
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(summary, indent=2))
+    summary.write(out)
     _print_means(summary)
     print(f"\nsummary: {out}")
     return 0
@@ -285,15 +286,15 @@ def _demands(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_means(summary: dict) -> None:
+def _print_means(summary: StudySummary) -> None:
     """Print the per-output mean relative L2 of every model of a study summary."""
     from ..reporting.report import format_table
 
-    means = {label: {"rel_l2": row["rel_l2"]["mean"]} for label, row in summary["models"].items()}
-    seeds = len(summary["seeds"])
+    means = {label: {"rel_l2": row.rel_l2.mean} for label, row in summary.models.items()}
+    seeds = len(summary.seeds)
     over = f"{seeds} seed" + ("s" if seeds != 1 else "")
     print(f"relative L2 error per output, mean of {over} (test split):")
-    print(format_table(means, summary["output_names"]))
+    print(format_table(means, summary.output_names))
 
 
 def build_parser() -> argparse.ArgumentParser:

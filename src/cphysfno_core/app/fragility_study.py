@@ -38,6 +38,7 @@ from ..data.datasets import load_dataset
 from ..data.layout import DATASET, MODELS
 from ..model.composite import CompositeModel
 from ..model.extrapolation import EXTRAPOLATION_FACTOR, outside_training
+from ..model.labels import ModelLabel
 from ..model.prediction_files import read_motions
 from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
@@ -54,6 +55,7 @@ from ..reporting.intensity_measures import IntensityMeasure, intensity_measure
 from ..signals import GroundMotions
 from ..signals.errors import ConfigError, CphysfnoWarning, ExtrapolationWarning, InputError
 from ..signals.progress import show_progress
+from .metrics_document import MetricsDocument
 
 NON_CONVERGED = ("exclude", "collapse")
 """What fragility may make of a record that did not converge below the collapse."""
@@ -126,7 +128,7 @@ def parse_limit_states(text: str) -> list[LimitState]:
     return states
 
 
-def default_model(metrics: dict[str, Any], demands: tuple[str, ...] = ("PID", "PFA")) -> str:
+def default_model(metrics: MetricsDocument, demands: tuple[str, ...] = ("PID", "PFA")) -> str:
     """The model a fragility or a demand sample uses unless told: the trained model with
     the lowest validation EDP error, the mean over stories and floors of the median
     ``|ln(predicted / simulated)|`` of the ``demands`` (``validation_edp`` in
@@ -140,22 +142,20 @@ def default_model(metrics: dict[str, Any], demands: tuple[str, ...] = ("PID", "P
         ConfigError: the run has no trained model.
     """
     rows = {
-        label: row
-        for label, row in metrics.get("models", {}).items()
-        if not label.startswith("physics-")
+        label: row for label, row in metrics.models.items() if ModelLabel.parse(label).is_trained
     }
     if not rows:
         raise ConfigError("this run has no trained model: run `cphysfno train` first")
 
     def score(label: str) -> tuple[float, bool]:
         row = rows[label]
-        if "validation_edp" in row:
-            errors = row["validation_edp"]
+        if row.validation_edp is not None:
+            errors = row.validation_edp
             medians = [v for key in demands if key in errors for v in errors[key]["median"]]
             value = float(np.nanmean(medians)) if np.isfinite(medians).any() else np.inf
         else:
-            value = float(np.mean(row.get("validation_rel_l2", row["rel_l2"])))
-        return value, not label.startswith("refined-")
+            value = float(np.mean(row.validation_rel_l2 or row.rel_l2))
+        return value, not ModelLabel.parse(label).refined
 
     return min(rows, key=score)
 
@@ -197,7 +197,7 @@ def load_trained_run(
         config = parse_config(json.loads((run / "config.json").read_text()))
     else:
         config = load_config(config_path)
-    label = model_label or default_model(json.loads((run / "metrics.json").read_text()), demands)
+    label = model_label or default_model(MetricsDocument.read(run / "metrics.json"), demands)
     folder = run / MODELS / label
     if not (folder / "model.json").is_file():
         known = sorted(p.name for p in (run / MODELS).iterdir() if (p / "model.json").is_file())

@@ -20,7 +20,7 @@ from ..data.datasets import load_dataset
 from ..data.generation import generate_dataset
 from ..data.layout import DATASET, MODELS
 from ..model.composite import CompositeModel, Prediction
-from ..model.parts import model_label
+from ..model.labels import ModelLabel
 from ..model.training import resolve_device
 from ..reporting import against_physics, baselines, metrics
 from ..reporting.evaluation import (
@@ -34,6 +34,7 @@ from ..signals import Responses
 from ..signals.errors import ConfigError, DatasetError
 from ..signals.histories import ACCELERATION_EXTRA
 from ..signals.progress import show_progress
+from .metrics_document import MetricsDocument
 
 
 def model_labels(config: ExperimentConfig) -> list[str]:
@@ -53,7 +54,7 @@ def model_labels(config: ExperimentConfig) -> list[str]:
 
 def _label(operator: Any, pp: Any, form: Any, refined: bool = False) -> str:
     residual = form is not None and bool(form.residual)
-    return model_label(operator.name, pp and pp.name, refined=refined, residual=residual)
+    return str(ModelLabel(operator.name, pp and pp.name, refined=refined, residual=residual))
 
 
 def _variants(config: ExperimentConfig) -> list[tuple[Any, Any, Any]]:
@@ -208,7 +209,7 @@ def evaluate(
     stories = structure.stories() if "stories" in structure.capabilities else None
     scorer = EDPScorer(stories, data, train_rows)
     for pp in config.preprocessor:
-        label = f"physics-{pp.name}"
+        label = str(ModelLabel.physics(pp.name))
         z_test, z_val = data.physics(pp.name, "test"), data.physics(pp.name, "val")
         results[label] = {
             **metric_row(z_test, test_u),
@@ -238,7 +239,7 @@ def evaluate(
             scorer.errors(label, _predicted(stages, data.dt), _predicted(validation, data.dt))
         )
         if model.preprocessor is not None:
-            results[label]["physics_input"] = f"physics-{model.preprocessor.name}"
+            results[label]["physics_input"] = str(ModelLabel.physics(model.preprocessor.name))
         if model.refiner is not None:
             calibrated_on = calibration_records[model.refiner.calibration_split]
             results[label].update(
@@ -285,7 +286,7 @@ def evaluate(
         "baselines": baseline_rows,
         "baseline_beats_surrogates": beaten,
     }
-    (out / "metrics.json").write_text(json.dumps(document, indent=2))
+    MetricsDocument.model_validate(document).write(out / "metrics.json")
     return Evaluation(
         data,
         predictions,

@@ -42,6 +42,8 @@ from ..signals.cpus import usable_cpus
 from ..signals.errors import ConfigError
 from ..signals.progress import show_progress
 from . import pipeline
+from .metrics_document import BaselineRow, MetricsDocument, ModelRow
+from .study_document import StudySummary
 
 RUNS = "runs"
 TABLE = "table"
@@ -160,7 +162,7 @@ def plan(config: ExperimentConfig, out: Path) -> list[Run]:
     return runs
 
 
-def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[str, Any]:
+def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> StudySummary:
     """Generate the dataset, run every run not yet done, write and return the summary.
 
     Every run shares ``out/dataset.h5`` (a sweep may not change the data).
@@ -225,7 +227,7 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> dict[
                 finished,
             )
     summary = summarise(config, runs)
-    (out / SUMMARY).write_text(json.dumps(summary, indent=2))
+    summary.write(out / SUMMARY)
     return summary
 
 
@@ -259,7 +261,7 @@ def _finished(run: Run) -> bool:
     metrics = run.folder / "metrics.json"
     if not metrics.exists():
         return False
-    evaluated = json.loads(metrics.read_text())["models"]
+    evaluated = MetricsDocument.read(metrics).models
     return all(label in evaluated for label in pipeline.model_labels(run.config))
 
 
@@ -311,14 +313,14 @@ def _copy_models(run: Run) -> None:
             shutil.copytree(source, target)
 
 
-def trained_on(documents: list[dict[str, Any]]) -> str:
+def trained_on(documents: list[MetricsDocument]) -> str:
     """Where the models of ``metrics.json`` documents trained, each place once (runs that
     predate the record count as unknown)."""
     places = [
-        row.get("device") or "unknown"
+        row.device or "unknown"
         for document in documents
-        for row in document["models"].values()
-        if "train_seconds" in row
+        for row in document.models.values()
+        if row.train_seconds is not None
     ]
     return ", ".join(dict.fromkeys(places)) or "unknown"
 
@@ -333,58 +335,59 @@ EDP_SUMMARY = {"pid_median": "PID", "pfa_median": "PFA"}
 as mean and std over seeds."""
 
 
-def _edp_summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
+def _edp_summary(rows: list[ModelRow] | list[BaselineRow]) -> dict[str, Any]:
     """``pid_median`` and ``pfa_median`` over the rows of one model (``{}`` without EDPs)."""
-    if "edp" not in rows[0]:
+    if rows[0].edp is None:
         return {}
     return {
-        key: _mean_std([row["edp"][edp_name]["median"] for row in rows])
+        key: _mean_std([row.edp[edp_name]["median"] for row in rows])
         for key, edp_name in EDP_SUMMARY.items()
     }
 
 
-def _sweep_edps(rows: list[tuple[Any, dict[str, Any]]]) -> dict[str, dict[str, list]]:
+def _sweep_edps(rows: list[tuple[Any, MetricsDocument]]) -> dict[str, dict[str, list]]:
     """label -> str(value) -> per-seed ``{"PID": [...], "PFA": [...]}`` median test errors of
     the models and baselines of the ``(value, metrics.json)`` pairs that have EDPs."""
     found: dict[str, dict[str, list]] = {}
     for value, document in rows:
-        for label, row in {**document["models"], **document.get("baselines", {})}.items():
-            if "edp" in row:
-                medians = {key: row["edp"][key]["median"] for key in EDP_SUMMARY.values()}
+        for label, row in {**document.models, **document.baselines}.items():
+            if row.edp is not None:
+                medians = {key: row.edp[key]["median"] for key in EDP_SUMMARY.values()}
                 found.setdefault(label, {}).setdefault(str(value), []).append(medians)
     return found
 
 
 def _summary(
-    documents: list[dict[str, Any]], seeds: list[int], epochs: int, sweeps: dict[str, Any]
-) -> dict[str, Any]:
+    documents: list[MetricsDocument], seeds: list[int], epochs: int, sweeps: dict[str, Any]
+) -> StudySummary:
     """The ``study.json`` document: per label (those of the first run) and metric, mean and
     std over the ``metrics.json`` documents of the table's runs, with ``sweeps`` beside."""
     models: dict[str, dict[str, Any]] = {}
-    for label in documents[0]["models"]:
-        rows = [document["models"][label] for document in documents]
+    for label in documents[0].models:
+        rows = [document.models[label] for document in documents]
         models[label] = {
-            key: _mean_std([row[key] for row in rows])
+            key: _mean_std([getattr(row, key) for row in rows])
             for key in ("rel_l2", "rmse", "coverage_68", "coverage_90")
-            if key in rows[0]
+            if getattr(rows[0], key) is not None
         }
         models[label].update(_edp_summary(rows))
-    return {
-        "models": models,
-        "baselines": {
-            label: _edp_summary([row]) for label, row in documents[0].get("baselines", {}).items()
-        },
-        "sweeps": sweeps,
-        "seeds": seeds,
-        "epochs": epochs,
-        "sizes": documents[0]["sizes"],
-        "output_names": documents[0]["output_names"],
-        "response_rms": documents[0].get("response_rms"),
-        "device": trained_on(documents),
-    }
+    first = documents[0]
+    return StudySummary.model_validate(
+        {
+            "models": models,
+            "baselines": {label: _edp_summary([row]) for label, row in first.baselines.items()},
+            "sweeps": sweeps,
+            "seeds": seeds,
+            "epochs": epochs,
+            "sizes": first.sizes,
+            "output_names": first.output_names,
+            "response_rms": first.response_rms,
+            "device": trained_on(documents),
+        }
+    )
 
 
-def summarise_runs(folders: list[Path]) -> dict[str, Any]:
+def summarise_runs(folders: list[Path]) -> StudySummary:
     """The summary :func:`summarise` writes, from finished ``cphysfno run`` folders (e.g.
     one per training seed, made by hand or on several machines).
 
@@ -406,19 +409,18 @@ def summarise_runs(folders: list[Path]) -> dict[str, Any]:
             raise ConfigError(
                 f"{folder} is not a finished run: it needs metrics.json and config.json"
             )
-        documents.append(json.loads(metrics.read_text()))
+        documents.append(MetricsDocument.read(metrics))
         configs.append(parse_config(json.loads(config.read_text())))
     for folder, document in zip(folders[1:], documents[1:], strict=True):
         for key in ("sizes", "output_names"):
-            if document[key] != documents[0][key]:
-                raise ConfigError(
-                    f"{folder} has {key} {document[key]}, {folders[0]} has {documents[0][key]}"
-                )
+            ours, theirs = getattr(document, key), getattr(documents[0], key)
+            if ours != theirs:
+                raise ConfigError(f"{folder} has {key} {ours}, {folders[0]} has {theirs}")
     seeds = [config.training.seed for config in configs]
     return _summary(documents, seeds, configs[0].training.epochs, sweeps={})
 
 
-def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
+def summarise(config: ExperimentConfig, runs: list[Run]) -> StudySummary:
     """The study's results from the runs' ``metrics.json`` files.
 
     Args:
@@ -435,7 +437,7 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
         baselines) -> value -> per-seed ``{"PID", "PFA"}`` medians (values with a finished
         run only); and the table runs' seeds, epochs, split sizes, output names and device.
     """
-    documents = {run.folder: json.loads((run.folder / "metrics.json").read_text()) for run in runs}
+    documents = {run.folder: MetricsDocument.read(run.folder / "metrics.json") for run in runs}
     table = [run for run in runs if run.group == TABLE]
     sweeps: dict[str, Any] = {}
     for name, sweep in config.study.sweeps.items():
@@ -444,8 +446,8 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
             continue
         by_label: dict[str, dict[str, list]] = {}
         for run in done:
-            for label, row in documents[run.folder]["models"].items():
-                by_label.setdefault(label, {}).setdefault(str(run.value), []).append(row["rel_l2"])
+            for label, row in documents[run.folder].models.items():
+                by_label.setdefault(label, {}).setdefault(str(run.value), []).append(row.rel_l2)
         sweeps[name] = {
             "field": sweep.field,
             "label": sweep.label or sweep.field,
@@ -461,7 +463,7 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> dict[str, Any]:
     )
 
 
-def summarise_finished(config: ExperimentConfig, out: str | Path) -> dict[str, Any]:
+def summarise_finished(config: ExperimentConfig, out: str | Path) -> StudySummary:
     """The summary of the runs of a study in ``out`` finished so far (a study still running,
     or stopped); writes nothing.
 

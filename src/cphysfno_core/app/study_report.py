@@ -4,22 +4,20 @@ coverage, and the sweep figures."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 from ..config.experiment import ExperimentConfig
 from ..reporting import figures
 from ..reporting.paper_tables import PaperTable, paper_table
 from ..reporting.report import describe_operators
 from .study import RUNS, TABLE
+from .study_document import StudySummary
 
 
-def _table(
-    summary: dict[str, Any], metric: str, digits: int, paper: PaperTable | None
-) -> list[str]:
-    names = summary["output_names"]
+def _table(summary: StudySummary, metric: str, digits: int, paper: PaperTable | None) -> list[str]:
+    names = summary.output_names
     lines = ["| model | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
-    for label, row in summary["models"].items():
-        mean, std = row[metric]["mean"], row[metric]["std"]
+    for label, row in summary.models.items():
+        mean, std = getattr(row, metric).mean, getattr(row, metric).std
         cells = [f"{m:.{digits}f} ± {s:.{digits}f}" for m, s in zip(mean, std, strict=True)]
         if paper:
             cells = paper.beside(label, metric, cells, digits)
@@ -27,8 +25,8 @@ def _table(
     return lines
 
 
-def _coverage(summary: dict[str, Any]) -> list[str]:
-    rows = {k: v for k, v in summary["models"].items() if "coverage_68" in v}
+def _coverage(summary: StudySummary) -> list[str]:
+    rows = {k: v for k, v in summary.models.items() if v.coverage_68 is not None}
     if not rows:
         return []
     lines = [
@@ -40,19 +38,18 @@ def _coverage(summary: dict[str, Any]) -> list[str]:
     ]
     for label, row in rows.items():
         cells = [
-            ", ".join(f"{c:.3f}" for c in row[key]["mean"])
-            for key in ("coverage_68", "coverage_90")
+            ", ".join(f"{c:.3f}" for c in part.mean) for part in (row.coverage_68, row.coverage_90)
         ]
         lines.append(f"| {label} | {cells[0]} | {cells[1]} |")
     return lines
 
 
-def _edp_tables(summary: dict[str, Any]) -> list[str]:
+def _edp_tables(summary: StudySummary) -> list[str]:
     """Median test ``|ln|`` errors of PID per story and PFA per floor, models and baselines
     (mean ± std over seeds; the baselines have no seed)."""
     rows = {
-        **{k: v for k, v in summary["models"].items() if "pid_median" in v},
-        **summary.get("baselines", {}),
+        **{k: v for k, v in summary.models.items() if v.pid_median is not None},
+        **summary.baselines,
     }
     if not rows:
         return []
@@ -67,7 +64,7 @@ def _edp_tables(summary: dict[str, Any]) -> list[str]:
         ("pid_median", "Peak story drift ratio"),
         ("pfa_median", "Peak floor acceleration"),
     ):
-        width = len(next(iter(rows.values()))[key]["mean"])
+        width = len(getattr(next(iter(rows.values())), key).mean)
         lines += [
             "",
             f"### {what}",
@@ -76,9 +73,8 @@ def _edp_tables(summary: dict[str, Any]) -> list[str]:
         ]
         lines.append("|---" * (width + 1) + "|")
         for label, row in rows.items():
-            cells = [
-                f"{m:.3f} ± {d:.3f}" for m, d in zip(row[key]["mean"], row[key]["std"], strict=True)
-            ]
+            part = getattr(row, key)
+            cells = [f"{m:.3f} ± {d:.3f}" for m, d in zip(part.mean, part.std, strict=True)]
             lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
 
@@ -88,26 +84,26 @@ def _panels(n_outputs: int) -> list[int]:
     return sorted({0, n_outputs // 2, n_outputs - 1})
 
 
-def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: str | Path) -> Path:
+def write_study_report(config: ExperimentConfig, summary: StudySummary, out: str | Path) -> Path:
     """Write ``out/study.md`` and ``out/figures/sweep-<name>.png``; return the report path."""
     out = Path(out)
     paper = paper_table(config.output.paper_reference)
-    names = summary["output_names"]
-    sizes = summary["sizes"]
+    names = summary.output_names
+    sizes = summary.sizes
     lines = [
         "# cphysfno study",
         "",
         f"- structure `{config.structure.name}`, ground motion `{config.ground_motion.name}`, "
         f"operators {describe_operators(config)}",
-        f"- {len(summary['seeds'])} training seeds {summary['seeds']}, {summary['epochs']} "
+        f"- {len(summary.seeds)} training seeds {summary.seeds}, {summary.epochs} "
         f"epochs, {sizes['train']} / {sizes['val']} / {sizes['test']} records, "
-        f"trained on {summary['device']}",
+        f"trained on {summary.device}",
         "- cells: mean ± standard deviation over seeds; `physics-*` rows are z alone",
     ]
-    planned = config.study.seeds if config.study else summary["seeds"]
-    if len(summary["seeds"]) < len(planned):
+    planned = config.study.seeds if config.study else summary.seeds
+    if len(summary.seeds) < len(planned):
         lines.append(
-            f"- in progress: {len(summary['seeds'])} of the config's {len(planned)} seeds "
+            f"- in progress: {len(summary.seeds)} of the config's {len(planned)} seeds "
             "have finished; sweeps show the runs finished so far"
         )
     if paper:
@@ -116,23 +112,23 @@ def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: s
     lines += ["", "## RMSE (m, test split)", "", *_table(summary, "rmse", 4, paper)]
     lines += _coverage(summary)
     lines += _edp_tables(summary)
-    if summary["sweeps"]:
+    if summary.sweeps:
         directory = out / "figures"
         directory.mkdir(parents=True, exist_ok=True)
         lines += ["", "## Parametric sweeps", ""]
-        for name, sweep in summary["sweeps"].items():
+        for name, sweep in summary.sweeps.items():
             path = figures.sweep_boxes(
-                sweep["values"],
-                sweep["rel_l2"],
+                sweep.values,
+                sweep.rel_l2,
                 _panels(len(names)),
                 names,
-                sweep["label"],
+                sweep.label,
                 directory / f"sweep-{name}.png",
             )
             lines.append(f"![{name}](figures/{path.name})")
-            if sweep["field"] == "training.train_records" and sweep.get("edp"):
+            if sweep.field == "training.train_records" and sweep.edp:
                 curve = figures.learning_curve(
-                    sweep["values"], sweep["edp"], directory / f"learning-curve-{name}.png"
+                    sweep.values, sweep.edp, directory / f"learning-curve-{name}.png"
                 )
                 lines += [
                     "",
@@ -143,10 +139,10 @@ def write_study_report(config: ExperimentConfig, summary: dict[str, Any], out: s
                     "",
                     f"![learning curve](figures/{curve.name})",
                 ]
-    first = f"{RUNS}/{TABLE}/seed-{summary['seeds'][0]}"
+    first = f"{RUNS}/{TABLE}/seed-{summary.seeds[0]}"
     lines += [
         "",
-        f"Trajectories, peak scatter and distributions of seed {summary['seeds'][0]}: "
+        f"Trajectories, peak scatter and distributions of seed {summary.seeds[0]}: "
         f"[{first}/report.md]({first}/report.md).",
     ]
     path = out / "study.md"

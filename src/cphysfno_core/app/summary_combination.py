@@ -11,18 +11,18 @@ the summaries that hold it, and at the end every model must stand on the same se
 from __future__ import annotations
 
 import re
-from typing import Any
 
 import numpy as np
 
+from ..model.labels import ModelLabel
 from ..signals.errors import ConfigError
+from .study_document import EDPSummary, MeanStd, StudySummary, SummaryRow, Sweep
 
 _SAME = ("epochs", "sizes", "output_names")
-_PHYSICS = "physics-"  # the label of a physics preprocessor's row begins so
 _DEVICES = re.compile(r", (?![^()]*\))")  # the commas between devices, not inside "(...)"
 
 
-def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
+def combine_summaries(summaries: list[StudySummary]) -> StudySummary:
     """One summary of the union of the seeds and models of ``summaries``.
 
     Args:
@@ -33,10 +33,9 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
             same in all.
 
     Returns:
-        The schema of ``study.json``: per model and metric the mean and standard deviation
-        (``ddof = 0``) over all its seeds, equal to what :func:`summarise` gives on all the
-        runs; sweeps' per-seed errors joined; seeds in the order first given; the devices
-        of all.
+        Per model and metric the mean and standard deviation (``ddof = 0``) over all its
+        seeds, equal to what :func:`summarise` gives on all the runs; sweeps' per-seed
+        errors joined; seeds in the order first given; the devices of all.
 
     Raises:
         ConfigError: fewer than two summaries, a model's seed in two of them, models that
@@ -46,68 +45,72 @@ def combine_summaries(summaries: list[dict[str, Any]]) -> dict[str, Any]:
     if len(summaries) < 2:
         raise ConfigError("combining needs at least two summaries")
     first = summaries[0]
-    recorded = [s["response_rms"] for s in summaries if s.get("response_rms") is not None]
+    recorded = [s.response_rms for s in summaries if s.response_rms is not None]
     response = recorded[0] if recorded else None
     for i, summary in enumerate(summaries[1:], start=1):
         for key in _SAME:
-            if summary[key] != first[key]:
-                raise ConfigError(
-                    f"summary {i} has {key} {summary[key]}, summary 0 has {first[key]}"
-                )
+            ours, theirs = getattr(summary, key), getattr(first, key)
+            if ours != theirs:
+                raise ConfigError(f"summary {i} has {key} {ours}, summary 0 has {theirs}")
     for i, summary in enumerate(summaries):
-        if not _same_response(summary.get("response_rms"), response):
+        if not _same_response(summary.response_rms, response):
             raise ConfigError(f"summary {i} has another test response than the others")
-    labels = dict.fromkeys(label for summary in summaries for label in summary["models"])
+    labels = dict.fromkeys(label for summary in summaries for label in summary.models)
     models, seeds_of = {}, {}
     for label in labels:
-        holding = [summary for summary in summaries if label in summary["models"]]
-        if label.startswith(_PHYSICS):
+        holding = [summary for summary in summaries if label in summary.models]
+        if ModelLabel.parse(label).is_physics:
             models[label] = _physics_row(holding, label)
             continue
-        seeds = [seed for summary in holding for seed in summary["seeds"]]
+        seeds = [seed for summary in holding for seed in summary.seeds]
         repeated = sorted({seed for seed in seeds if seeds.count(seed) > 1})
         if repeated:
             raise ConfigError(f"{label}: seeds {repeated} are in more than one summary")
-        counts = [len(summary["seeds"]) for summary in holding]
-        rows = [summary["models"][label] for summary in holding]
+        counts = [len(summary.seeds) for summary in holding]
+        rows = [summary.models[label] for summary in holding]
         models[label] = _combine_model(rows, counts, label)
         seeds_of[label] = seeds
     _check_same_seeds(seeds_of)
-    devices = [part for summary in summaries for part in _DEVICES.split(summary["device"])]
-    return {
-        "models": models,
-        "baselines": _baselines(summaries),
-        "sweeps": _combine_sweeps([summary["sweeps"] for summary in summaries]),
-        "seeds": list(dict.fromkeys(seed for summary in summaries for seed in summary["seeds"])),
-        "epochs": first["epochs"],
-        "sizes": first["sizes"],
-        "output_names": first["output_names"],
-        "response_rms": response,
-        "device": ", ".join(dict.fromkeys(devices)),
-    }
+    devices = [part for summary in summaries for part in _DEVICES.split(summary.device)]
+    return StudySummary(
+        models=models,
+        baselines=_baselines(summaries),
+        sweeps=_combine_sweeps([summary.sweeps for summary in summaries]),
+        seeds=list(dict.fromkeys(seed for summary in summaries for seed in summary.seeds)),
+        epochs=first.epochs,
+        sizes=first.sizes,
+        output_names=first.output_names,
+        response_rms=response,
+        device=", ".join(dict.fromkeys(devices)),
+    )
 
 
-def _baselines(summaries: list[dict[str, Any]]) -> dict[str, Any]:
+def _baselines(summaries: list[StudySummary]) -> dict[str, EDPSummary]:
     """The baselines' rows, fitted on the training data alone and so the same in every
     summary of the same data (the first one that has them)."""
-    return next((summary["baselines"] for summary in summaries if summary.get("baselines")), {})
+    return next((summary.baselines for summary in summaries if summary.baselines), {})
 
 
-def _physics_row(holding: list[dict[str, Any]], label: str) -> dict[str, Any]:
+def _physics_row(holding: list[StudySummary], label: str) -> SummaryRow:
     """The row of a physics preprocessor alone, which no training seed changes: the same
     in every summary of the same data (raises ConfigError where it is not)."""
-    first = holding[0]["models"][label]
+    first = holding[0].models[label]
     for summary in holding[1:]:
-        row = summary["models"][label]
-        if row.keys() != first.keys() or not all(map(_same_value, row.values(), first.values())):
+        row = summary.models[label]
+        same_extras = row.model_extra == first.model_extra
+        if not (same_extras and all(map(_same, _statistics(row), _statistics(first)))):
             raise ConfigError(f"{label} differs between the summaries: not the same data")
     return first
 
 
-def _same_value(a: Any, b: Any) -> bool:
-    if isinstance(a, dict) and set(a) == {"mean", "std"}:
-        return bool(np.allclose(a["mean"], b["mean"], rtol=1e-9, atol=0.0))
-    return a == b
+def _statistics(row: SummaryRow) -> list[MeanStd | None]:
+    return [getattr(row, key) for key in SummaryRow.model_fields]
+
+
+def _same(a: MeanStd | None, b: MeanStd | None) -> bool:
+    if a is None or b is None:
+        return a is b
+    return bool(np.allclose(a.mean, b.mean, rtol=1e-9, atol=0.0))
 
 
 def _check_same_seeds(seeds_of: dict[str, list[int]]) -> None:
@@ -129,39 +132,46 @@ def _same_response(a: list[float] | None, b: list[float] | None) -> bool:
     return bool(np.allclose(a, b, rtol=1e-9, atol=0.0))
 
 
-def _combine_model(rows: list[dict[str, Any]], counts: list[int], label: str) -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for key, value in rows[0].items():
-        if isinstance(value, dict) and set(value) == {"mean", "std"}:
-            out[key] = _pooled([row[key] for row in rows], counts)
-        elif any(row.get(key) != value for row in rows):
+def _combine_model(rows: list[SummaryRow], counts: list[int], label: str) -> SummaryRow:
+    """The statistics of ``rows`` pooled, and the keys of their own, which must agree."""
+    combined = {}
+    for key, value in rows[0].model_extra.items():
+        if any(row.model_extra.get(key) != value for row in rows):
             raise ConfigError(f"model {label}: {key} differs between the summaries")
-        else:
-            out[key] = value
-    return out
+        combined[key] = value
+    for key in SummaryRow.model_fields:
+        parts = [getattr(row, key) for row in rows]
+        if all(part is None for part in parts):
+            continue
+        if any(part is None for part in parts):
+            raise ConfigError(f"model {label}: {key} is in some of the summaries only")
+        combined[key] = _pooled(parts, counts)
+    return SummaryRow.model_validate(combined)
 
 
-def _pooled(parts: list[dict[str, list[float]]], counts: list[int]) -> dict[str, list[float]]:
+def _pooled(parts: list[MeanStd], counts: list[int]) -> MeanStd:
     """Mean and ``ddof = 0`` std of the union, from each part's mean, std and count."""
     n = np.asarray(counts, dtype=np.float64)[:, None]
-    mean = np.asarray([part["mean"] for part in parts], dtype=np.float64)
-    std = np.asarray([part["std"] for part in parts], dtype=np.float64)
+    mean = np.asarray([part.mean for part in parts], dtype=np.float64)
+    std = np.asarray([part.std for part in parts], dtype=np.float64)
     total = (n * mean).sum(axis=0) / n.sum()
     # spread within each part plus the parts' offsets from the total mean
     variance = (n * (std**2 + (mean - total) ** 2)).sum(axis=0) / n.sum()
-    return {"mean": total.tolist(), "std": np.sqrt(variance).tolist()}
+    return MeanStd(mean=total.tolist(), std=np.sqrt(variance).tolist())
 
 
-def _combine_sweeps(sweeps: list[dict[str, Any]]) -> dict[str, Any]:
-    out: dict[str, Any] = {}
+def _combine_sweeps(sweeps: list[dict[str, Sweep]]) -> dict[str, Sweep]:
+    out: dict[str, Sweep] = {}
     for part in sweeps:
         for name, sweep in part.items():
-            into = out.setdefault(name, {**sweep, "values": [], "rel_l2": {}, "edp": {}})
-            if sweep["field"] != into["field"]:
-                raise ConfigError(f"sweep {name} sets {sweep['field']} and {into['field']}")
-            into["values"] += [v for v in sweep["values"] if v not in into["values"]]
+            into = out.setdefault(
+                name, Sweep(field=sweep.field, label=sweep.label, values=[], rel_l2={}, edp={})
+            )
+            if sweep.field != into.field:
+                raise ConfigError(f"sweep {name} sets {sweep.field} and {into.field}")
+            into.values += [v for v in sweep.values if v not in into.values]
             for key in ("rel_l2", "edp"):
-                for label, by_value in sweep.get(key, {}).items():
+                for label, by_value in getattr(sweep, key).items():
                     for value, rows in by_value.items():
-                        into[key].setdefault(label, {}).setdefault(value, []).extend(rows)
+                        getattr(into, key).setdefault(label, {}).setdefault(value, []).extend(rows)
     return out

@@ -2,6 +2,6 @@
 
 from .assembly import compose
 from .composite import CompositeModel, Prediction
-from .parts import model_label
+from .labels import ModelLabel
 
-__all__ = ["CompositeModel", "Prediction", "compose", "model_label"]
+__all__ = ["CompositeModel", "ModelLabel", "Prediction", "compose"]

@@ -32,7 +32,8 @@ from ..signals.errors import (
 )
 from ..signals.intensity import peak_ground_acceleration
 from .extrapolation import warn_extrapolation
-from .parts import PartLike, model_label, resolve
+from .labels import ModelLabel
+from .parts import PartLike, resolve
 from .persistence import load_model, save_model
 from .training import (
     EpochReport,
@@ -115,14 +116,15 @@ class CompositeModel:
 
     @property
     def label(self) -> str:
-        """Name of this model in reports (see :func:`model_label`)."""
+        """Name of this model in reports (see :class:`~cphysfno_core.model.labels.ModelLabel`)."""
         preprocessor = None if self.preprocessor is None else self.preprocessor.name
-        return model_label(
+        label = ModelLabel(
             self.operator_spec.name,
             preprocessor,
             refined=self.refiner is not None,
-            residual=self.formulation.residual,
+            residual=bool(self.formulation.residual),
         )
+        return str(label)
 
     # -- features --------------------------------------------------------------------
     def physics(self, motions: GroundMotions) -> np.ndarray | None:

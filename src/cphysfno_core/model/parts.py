@@ -28,17 +28,3 @@ def resolve(kind: str, part: PartLike | None) -> Any:
         return part
     spec = as_spec(part)
     return get_registry().create(kind, spec.name, **spec.params)
-
-
-def model_label(
-    operator: str,
-    preprocessor: str | None = None,
-    refined: bool = False,
-    residual: bool = False,
-) -> str:
-    """``fno`` for the baseline, ``c-physfno-els`` for FNO on the ELS response (in general
-    ``c-phys<operator>-<preprocessor>``), ``-residual`` behind it for the residual
-    formulation, ``refined-`` in front when refined."""
-    label = operator if preprocessor is None else f"c-phys{operator}-{preprocessor}"
-    label += "-residual" if residual else ""
-    return f"refined-{label}" if refined else label

@@ -8,10 +8,10 @@ same two errors of z alone.
 
 from __future__ import annotations
 
+from ..model.labels import ModelLabel
+
 SPLITS = {"validation": "validation_rel_l2", "test": "rel_l2"}
 """Split name -> key of its relative L2 in a metrics row."""
-
-RESIDUAL_SUFFIX = "-residual"
 
 
 def shortfalls(models: dict[str, dict], output_names: list[str]) -> dict[str, dict[str, list]]:
@@ -49,7 +49,7 @@ def describe_shortfalls(found: dict[str, dict[str, list]]) -> list[str]:
         ]
         advice = (
             "z alone is the better answer there"
-            if label.endswith(RESIDUAL_SUFFIX)
+            if ModelLabel.parse(label).residual
             else "train it in the residual form ([formulation] residual = true, or 'choose' "
             "to train both and compare), or use z"
         )
@@ -64,15 +64,14 @@ def chosen_forms(models: dict[str, dict]) -> dict[str, str]:
     relative L2: paper-form label -> the chosen label (itself or its ``-residual`` twin)."""
     chosen = {}
     for label, row in models.items():
-        twin = models.get(_residual_twin(label))
+        parsed = ModelLabel.parse(label)
+        if parsed.is_physics or parsed.residual:
+            continue
+        twin_label = str(parsed.residual_twin)
+        twin = models.get(twin_label)
         if twin is None or "validation_rel_l2" not in row:
             continue
         paper_error = sum(row["validation_rel_l2"]) / len(row["validation_rel_l2"])
         residual_error = sum(twin["validation_rel_l2"]) / len(twin["validation_rel_l2"])
-        chosen[label] = _residual_twin(label) if residual_error < paper_error else label
+        chosen[label] = twin_label if residual_error < paper_error else label
     return chosen
-
-
-def _residual_twin(label: str) -> str:
-    """``c-physfno-els`` -> ``c-physfno-els-residual`` (``refined-`` kept in front)."""
-    return "" if label.endswith(RESIDUAL_SUFFIX) else label + RESIDUAL_SUFFIX

@@ -27,6 +27,7 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
+from ..model.labels import ModelLabel
 from ..signals import GroundMotions
 from ..signals.errors import InputError
 from ..signals.intensity import (
@@ -342,7 +343,7 @@ def beaten_surrogates(
     surrogates = {
         label: row["edp"]
         for label, row in models.items()
-        if "edp" in row and not label.startswith("physics-")
+        if "edp" in row and ModelLabel.parse(label).is_trained
     }
     found = []
     if not surrogates or not baseline_rows:

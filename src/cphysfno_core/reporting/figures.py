@@ -12,7 +12,9 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import NullLocator
 from scipy.signal import welch
 
+from ..model.labels import ModelLabel
 from ..signals.intensity import STANDARD_GRAVITY, SpectrumBand, response_spectrum
+from .baselines import BASELINES
 
 DPI = 130
 
@@ -403,13 +405,12 @@ def learning_curve(
             mean = np.array([np.mean(s) if s else np.nan for s in seeds])
             low = np.array([np.min(s) if s else np.nan for s in seeds])
             high = np.array([np.max(s) if s else np.nan for s in seeds])
-            if label.startswith("baseline-"):
+            if label in BASELINES:
                 style = {**style, "linestyle": "--", "marker": "x"}
-            elif label.startswith("physics-"):
+            elif ModelLabel.parse(label).is_physics:
                 style = {**style, "linestyle": ":", "marker": "."}
-            ax.errorbar(
-                sizes, mean, yerr=[mean - low, high - mean], label=label, capsize=2, **style
-            )
+            spread = np.clip([mean - low, high - mean], 0.0, None)  # equal seeds: round-off
+            ax.errorbar(sizes, mean, yerr=spread, label=label, capsize=2, **style)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.xaxis.set_minor_locator(NullLocator())

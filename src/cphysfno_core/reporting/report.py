@@ -11,6 +11,7 @@ from ..api.registry import get_registry
 from ..config.experiment import ExperimentConfig
 from ..data.datasets import SPLITS
 from ..data.layout import MODELS
+from ..model.labels import ModelLabel
 from ..signals.intensity import SpectrumBand
 from . import edp, figures
 from .against_physics import describe_shortfalls
@@ -100,7 +101,8 @@ def write_figures(
     record = int(np.argsort(true_peak)[len(true_peak) // 2])  # a typical record: median peak
     written = []
     physics = [label for label in stages if stages[label].z is not None]
-    main = next((label for label in stages if label.startswith("c-phys")), next(iter(stages)))
+    labels = {label: ModelLabel.parse(label) for label in stages}
+    main = next((label for label in stages if labels[label].is_composite), next(iter(stages)))
     written.append(
         figures.trajectories(
             time,
@@ -120,7 +122,7 @@ def write_figures(
             directory / "top_story_models.png",
         )
     )
-    refined = [label for label in stages if label.startswith("refined-")]
+    refined = [label for label in stages if labels[label].refined]
     if refined:
         s = stages[refined[0]]
         written.append(
@@ -184,7 +186,7 @@ def write_figures(
     histories = {}
     for label in stages:
         model_json = out / MODELS / label / "model.json"
-        if not label.startswith("refined-") and model_json.exists():
+        if not labels[label].refined and model_json.exists():
             histories[label] = json.loads(model_json.read_text())["history"]
     if histories:
         written.append(figures.training_curves(histories, directory / "training.png"))

@@ -9,7 +9,7 @@ does not converge are caught before they make data.
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Callable
 
 import numpy as np
 import scipy.linalg
@@ -17,6 +17,7 @@ import scipy.signal
 
 from ..api.interfaces import Structure
 from ..signals import GroundMotions, LinearSystem
+from .helpers import fail, smooth_random_motions
 
 SMALL_PEAK = 1e-4
 """Peak output displacement (m) of the linear response at which a structure is taken to
@@ -45,19 +46,6 @@ PROJECTION_TOLERANCE = 1e-2
 
 YIELD_DEVIATION = 0.05
 """Relative L2 from the linear response at which a record is taken to yield the structure."""
-
-
-def smooth_random_motions(
-    n_records: int, n_steps: int, dt: float, peak: float, seed: int, window: int
-) -> GroundMotions:
-    """White noise smoothed by a Hann window of ``window`` samples, each record scaled to
-    ``peak`` (m/s^2); the same for the same arguments."""
-    rng = np.random.default_rng(seed)
-    raw = rng.standard_normal((n_records, n_steps))
-    kernel = np.hanning(window)
-    smooth = np.stack([np.convolve(row, kernel / kernel.sum(), mode="same") for row in raw])
-    smooth *= peak / np.max(np.abs(smooth), axis=1, keepdims=True)
-    return GroundMotions(smooth, dt)
 
 
 def motions(n_steps: int = 501, dt: float = 0.01, n_records: int = 2) -> GroundMotions:
@@ -89,56 +77,54 @@ def scaled(ground: GroundMotions, factor: float) -> GroundMotions:
     return GroundMotions(ground.acceleration * factor, ground.dt)
 
 
-def _fail(structure: Any, message: str) -> AssertionError:
-    return AssertionError(f"{structure.name}: {message}")
-
-
-def check_linear_physics(structure: Structure) -> None:
-    """For a structure with ``linear_system``: its periods, its small-amplitude response
-    and, where declared, its restoring force's tangent and its projected simulation agree
-    with that linear system; a coarse step converges to the fine response."""
+def physics_checks(structure: Structure) -> list[Callable[[Structure], None]]:
+    """The checks of this module that ``structure``'s capabilities call for: with
+    ``linear_system``, its periods and small-amplitude response, and where declared its
+    restoring force's tangent and its projected simulation; with ``coarse_simulation``, a
+    coarse step's convergence."""
     capabilities = structure.capabilities
-    if "linear_system" not in capabilities:
-        if "coarse_simulation" in capabilities:
-            check_coarse_convergence(structure, motions())
-        return
+    checks: list[Callable[[Structure], None]] = []
+    if "linear_system" in capabilities:
+        checks += [check_periods_are_eigenperiods, check_small_amplitude_is_linear]
+        if "restoring_force" in capabilities:
+            checks.append(check_tangent_at_rest)
+        if "projected_simulation" in capabilities:
+            checks.append(check_projected_simulation)
+    if "coarse_simulation" in capabilities:
+        checks.append(check_coarse_convergence)
+    return checks
+
+
+def _linear(structure: Structure) -> tuple[LinearSystem, GroundMotions, np.ndarray, float]:
+    """The structure's linear system, the check's motions, their exact linear response
+    ``[n, T, n_outputs]`` (m) and the scale of the motions at which it peaks at
+    :data:`SMALL_PEAK`."""
     system = structure.linear_system()
-    check_periods(structure, system)
     ground = motions()
     reference = linear_response(system, ground)
-    small = SMALL_PEAK / np.max(np.abs(reference))
-    check_small_amplitude(structure, ground, reference, small)
-    if "restoring_force" in capabilities:
-        check_tangent_at_rest(structure, system)
-    yielding = None
-    if capabilities & {"projected_simulation", "coarse_simulation"}:
-        yielding = yielding_motions(structure, ground, reference, small)
-    if "projected_simulation" in capabilities:
-        check_projection(structure, system, ground, small, yielding)
-    if "coarse_simulation" in capabilities:
-        check_coarse_convergence(structure, yielding)
+    return system, ground, reference, SMALL_PEAK / np.max(np.abs(reference))
 
 
-def check_periods(structure: Structure, system: LinearSystem) -> None:
-    """``periods()`` are the eigenperiods of the linear system's ``(K, M)``."""
+def check_periods_are_eigenperiods(structure: Structure) -> None:
+    """``periods()`` are the eigenperiods of ``linear_system()``'s ``(K, M)``."""
+    system = structure.linear_system()
     squares = scipy.linalg.eigh(system.stiffness, system.mass, eigvals_only=True)
     expected = 2 * np.pi / np.sqrt(np.sort(squares))
     claimed = np.asarray(structure.periods(), dtype=float)
     n = min(len(claimed), len(expected), 3)
     difference = np.abs(claimed[:n] / expected[:n] - 1.0)
     if not (difference <= PERIOD_TOLERANCE).all():
-        raise _fail(
+        raise fail(
             structure,
             f"periods() {np.round(claimed[:n], 4).tolist()} s are not the eigenperiods "
             f"{np.round(expected[:n], 4).tolist()} s of its linear_system()",
         )
 
 
-def check_small_amplitude(
-    structure: Structure, ground: GroundMotions, reference: np.ndarray, small: float
-) -> None:
-    """At an amplitude far below yield, ``simulate`` is the linear system's response:
-    same units, sign, stiffness and output order."""
+def check_small_amplitude_is_linear(structure: Structure) -> None:
+    """At an amplitude far below yield, ``simulate`` is the response of
+    ``linear_system()``: same units, sign, stiffness and output order."""
+    _, ground, reference, small = _linear(structure)
     simulated = structure.simulate(scaled(ground, small)).displacement / small
     error = relative_l2(simulated, reference)
     if (error <= LINEAR_TOLERANCE).all():
@@ -161,7 +147,7 @@ def check_small_amplitude(
     ]
     if matches and matches[0] != worst:
         hints.append(f"it is the linear system's output {matches[0]}: output order?")
-    raise _fail(
+    raise fail(
         structure,
         f"at small amplitude simulate() is {error[worst]:.3g} (relative L2) from the exact "
         f"response of its linear_system() at output {worst} ({structure.output_names[worst]})"
@@ -169,9 +155,10 @@ def check_small_amplitude(
     )
 
 
-def check_tangent_at_rest(structure: Structure, system: LinearSystem) -> None:
-    """The restoring force's tangent at rest (through its internal state where it has one)
-    is the linear system's stiffness."""
+def check_tangent_at_rest(structure: Structure) -> None:
+    """The tangent at rest of ``restoring_force()`` (through its internal state where it
+    has one) is the stiffness of ``linear_system()``."""
+    system = structure.linear_system()
     force = structure.restoring_force()
     n = system.n_dof
     state = force.initial_state(1)
@@ -194,7 +181,7 @@ def check_tangent_at_rest(structure: Structure, system: LinearSystem) -> None:
         tangent[:, j] = (direct + through_state)[0]
     difference = np.linalg.norm(tangent - system.stiffness) / np.linalg.norm(system.stiffness)
     if difference > TANGENT_TOLERANCE:
-        raise _fail(
+        raise fail(
             structure,
             f"the tangent of restoring_force() at rest is {difference:.3g} (relative) from "
             "linear_system().stiffness",
@@ -215,21 +202,17 @@ def yielding_motions(
     return scaled(ground, factor)
 
 
-def check_projection(
-    structure: Structure,
-    system: LinearSystem,
-    ground: GroundMotions,
-    small: float,
-    yielding: GroundMotions,
-) -> None:
+def check_projected_simulation(structure: Structure) -> None:
     """``simulate_projected`` with the full basis is ``simulate`` on yielding records, and
     with the first mode alone at small amplitude is the one-mode linear response."""
+    system, ground, reference, small = _linear(structure)
+    yielding = yielding_motions(structure, ground, reference, small)
     n = system.n_dof
     full = structure.simulate_projected(yielding, np.eye(n)).displacement
     truth = structure.simulate(yielding).displacement
     error = relative_l2(full, truth).max()
     if error > PROJECTION_TOLERANCE:
-        raise _fail(
+        raise fail(
             structure,
             f"simulate_projected() with the full basis is {error:.3g} (relative L2) from "
             "simulate() on yielding records",
@@ -247,16 +230,20 @@ def check_projection(
     projected = structure.simulate_projected(scaled(ground, small), mode).displacement / small
     error = relative_l2(projected, expected).max()
     if error > LINEAR_TOLERANCE:
-        raise _fail(
+        raise fail(
             structure,
             f"simulate_projected() on the first mode is {error:.3g} (relative L2) from the "
             "one-mode linear response at small amplitude: does it use its basis?",
         )
 
 
-def check_coarse_convergence(structure: Structure, ground: GroundMotions) -> None:
-    """``simulate(dt=k dt)`` answers on the coarse grid and comes closer to the fine
-    response as ``k`` falls (k = 6 against k = 2)."""
+def check_coarse_convergence(structure: Structure) -> None:
+    """``simulate(dt=k dt)`` comes closer to the fine response as ``k`` falls (k = 6
+    against k = 2), on records that yield the structure where it has a linear system to
+    tell (:func:`yielding_motions`)."""
+    ground = motions()
+    if "linear_system" in structure.capabilities:
+        ground = yielding_motions(structure, *_linear(structure)[1:])
     fine = structure.simulate(ground).displacement
     errors = {}
     for k in (2, 6):
@@ -265,7 +252,7 @@ def check_coarse_convergence(structure: Structure, ground: GroundMotions) -> Non
         length = min(coarse.shape[1], samples.shape[1])
         errors[k] = relative_l2(coarse[:, :length], samples[:, :length]).max()
     if not errors[2] < errors[6]:
-        raise _fail(
+        raise fail(
             structure,
             f"a coarse step does not converge to the fine response: {errors[2]:.3g} "
             f"(relative L2) at 2 dt, {errors[6]:.3g} at 6 dt",

@@ -7,6 +7,7 @@ each step), the way the shear-building integrator uses it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -80,9 +81,97 @@ def cyclic_drift(amplitude: float, cycles: int = 3, per_cycle: int = 400) -> np.
     return amplitude * (t / cycles) * np.sin(2.0 * np.pi * t)
 
 
+def _yield_drift(law: StoryLaw) -> float:
+    """The first story's yield drift (m), 0.01 m for a law without one."""
+    yield_drift = law.yield_drift(3)
+    return 0.01 if yield_drift is None else float(yield_drift[0])
+
+
+def _first_story(law: StoryLaw, stiffness: float) -> tuple[LawFunctions, np.ndarray]:
+    """The law's functions and the coefficients of a story of ``stiffness`` (N/m)."""
+    return law.functions(), law.coefficients(np.full(3, stiffness))[0]
+
+
+def _loops(law: StoryLaw, stiffness: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cycles growing to 4 times the yield drift: the drift path (m) and the shears (N) when
+    it takes 10 s and 0.1 s."""
+    functions, c = _first_story(law, stiffness)
+    path = cyclic_drift(4.0 * _yield_drift(law))
+    slow = drive(functions, law.n_states, c, path, duration=10.0)
+    fast = drive(functions, law.n_states, c, path, duration=0.1)
+    if not (np.all(np.isfinite(slow)) and np.all(np.isfinite(fast))):
+        raise _fail(law, "its shear is not finite under cycles of 4 times the yield drift")
+    return path, slow, fast
+
+
+def check_declarations(law: StoryLaw, stiffness: float = 1.0e7) -> None:
+    """``state_names`` names every state variable, the coefficients of ``d`` stories come
+    as a float64 ``[d, n_c]`` array, and ``functions()`` as
+    :class:`~cphysfno_core.LawFunctions`."""
+    if len(law.state_names) != law.n_states:
+        raise _fail(law, f"state_names names {len(law.state_names)} of {law.n_states} states")
+    coefficients = law.coefficients(np.full(3, stiffness))
+    if not (
+        isinstance(coefficients, np.ndarray)
+        and coefficients.ndim == 2
+        and coefficients.shape[0] == 3
+        and coefficients.dtype == np.float64
+    ):
+        raise _fail(law, "coefficients(stiffness [d]) must be a float64 [d, n_c] array")
+    if not isinstance(law.functions(), LawFunctions):
+        raise _fail(law, "functions() must return cphysfno_core.LawFunctions")
+
+
+def check_at_rest(law: StoryLaw, stiffness: float = 1.0e7) -> None:
+    """At rest the shear is zero and its tangent is the story stiffness (within
+    :data:`TANGENT_TOLERANCE`), which the building's linear system assumes."""
+    functions, c = _first_story(law, stiffness)
+    small = 1e-6 * _yield_drift(law)
+    at_rest = drive(functions, law.n_states, c, np.array([0.0, small]))
+    if at_rest[0] != 0.0:
+        raise _fail(law, f"the shear at rest must be 0 N, got {at_rest[0]:.6g} N")
+    tangent = at_rest[1] / small
+    if abs(tangent - stiffness) > TANGENT_TOLERANCE * stiffness:
+        raise _fail(
+            law,
+            f"its tangent at rest is {tangent:.6g} N/m, the story stiffness is {stiffness:.6g} "
+            "N/m: the linear system would describe another building",
+        )
+
+
+def check_rate_independent(law: StoryLaw, stiffness: float = 1.0e7) -> None:
+    """One drift path run at two speeds gives the same loop (within
+    :data:`RATE_TOLERANCE`), with finite shears."""
+    _, slow, fast = _loops(law, stiffness)
+    scale = np.max(np.abs(slow))
+    if np.max(np.abs(slow - fast)) > RATE_TOLERANCE * max(scale, 1e-300):
+        raise _fail(law, "one drift path at two speeds gives two loops: the law is rate-dependent")
+
+
+def check_dissipates_energy(law: StoryLaw, stiffness: float = 1.0e7) -> None:
+    """Over closed cycles past the yield drift (from and back to zero drift) the law
+    dissipates energy (never creates it, within :data:`ENERGY_TOLERANCE`), and its shear
+    stays finite and below ``k`` times the largest drift."""
+    path, slow, _ = _loops(law, stiffness)
+    work = np.trapezoid(slow, path)
+    if work < -ENERGY_TOLERANCE * stiffness * _yield_drift(law) ** 2:
+        raise _fail(law, f"over closed cycles it creates energy: {work:.6g} J")
+    if np.max(np.abs(slow)) > 1.001 * stiffness * np.max(np.abs(path)):
+        raise _fail(law, "its shear exceeds the initial stiffness times the largest drift")
+
+
+STORY_LAW_CHECKS: tuple[Callable[..., None], ...] = (
+    check_declarations,
+    check_at_rest,
+    check_rate_independent,
+    check_dissipates_energy,
+)
+"""The checks of a story law, in order; each takes ``(law, stiffness=1e7)``."""
+
+
 def check_story_law(law: StoryLaw, stiffness: float = 1.0e7) -> None:
     """Check a story law's contract and physics on one story of initial stiffness
-    ``stiffness`` (N/m):
+    ``stiffness`` (N/m), running every check of :data:`STORY_LAW_CHECKS`:
 
     - its coefficients come as ``[d, n_c]`` float64 for ``d`` stories and ``state_names``
       names every state variable;
@@ -96,43 +185,5 @@ def check_story_law(law: StoryLaw, stiffness: float = 1.0e7) -> None:
     Raises:
         AssertionError: a check failed (the message names the law and the check).
     """
-    if len(law.state_names) != law.n_states:
-        raise _fail(law, f"state_names names {len(law.state_names)} of {law.n_states} states")
-    coefficients = law.coefficients(np.full(3, stiffness))
-    if not (
-        isinstance(coefficients, np.ndarray)
-        and coefficients.ndim == 2
-        and coefficients.shape[0] == 3
-        and coefficients.dtype == np.float64
-    ):
-        raise _fail(law, "coefficients(stiffness [d]) must be a float64 [d, n_c] array")
-    functions = law.functions()
-    if not isinstance(functions, LawFunctions):
-        raise _fail(law, "functions() must return cphysfno_core.LawFunctions")
-    c = coefficients[0]
-    yield_drift = law.yield_drift(3)
-    u_y = 0.01 if yield_drift is None else float(yield_drift[0])
-    small = 1e-6 * u_y
-    at_rest = drive(functions, law.n_states, c, np.array([0.0, small]))
-    if at_rest[0] != 0.0:
-        raise _fail(law, f"the shear at rest must be 0 N, got {at_rest[0]:.6g} N")
-    tangent = at_rest[1] / small
-    if abs(tangent - stiffness) > TANGENT_TOLERANCE * stiffness:
-        raise _fail(
-            law,
-            f"its tangent at rest is {tangent:.6g} N/m, the story stiffness is {stiffness:.6g} "
-            "N/m: the linear system would describe another building",
-        )
-    path = cyclic_drift(4.0 * u_y)
-    slow = drive(functions, law.n_states, c, path, duration=10.0)
-    fast = drive(functions, law.n_states, c, path, duration=0.1)
-    if not (np.all(np.isfinite(slow)) and np.all(np.isfinite(fast))):
-        raise _fail(law, "its shear is not finite under cycles of 4 times the yield drift")
-    scale = np.max(np.abs(slow))
-    if np.max(np.abs(slow - fast)) > RATE_TOLERANCE * max(scale, 1e-300):
-        raise _fail(law, "one drift path at two speeds gives two loops: the law is rate-dependent")
-    work = np.trapezoid(slow, path)
-    if work < -ENERGY_TOLERANCE * stiffness * u_y**2:
-        raise _fail(law, f"over closed cycles it creates energy: {work:.6g} J")
-    if scale > 1.001 * stiffness * np.max(np.abs(path)):
-        raise _fail(law, "its shear exceeds the initial stiffness times the largest drift")
+    for check in STORY_LAW_CHECKS:
+        check(law, stiffness)
