@@ -8,7 +8,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from ..data.datasets import read_provenance
+from ..data.datasets import read_draws, read_provenance
 from ..data.recoveries import convergence_summary
 from ..signals.errors import DatasetError
 
@@ -62,10 +62,27 @@ def _describe_dataset(path: Path, f: h5py.File, records: int) -> str:
         lines.append(
             f"  {name:<22} {str(item.shape):<20} {item.dtype!s:<8} [{units}] {description}"
         )
+    lines += _describe_draws(f)
     provenance = read_provenance(f)
     lines += ["", f"provenance of {min(records, len(provenance))} of {len(provenance)} records:"]
     lines += [f"  {i}: {json.dumps(p)}" for i, p in enumerate(provenance[:records])]
     return "\n".join(lines)
+
+
+def _describe_draws(f: h5py.File) -> list[str]:
+    """The random structural parameters of the open dataset ``f``, each with its unit and
+    the minimum, median and maximum of its draws; nothing for a fixed structure."""
+    drawn = read_draws(f)
+    if not drawn:
+        return []
+    values = drawn["params"]
+    lines = ["", f"random structural parameters ({values.shape[0]} draws, one a record):"]
+    for j, (name, unit) in enumerate(zip(drawn["param_names"], drawn["param_units"], strict=True)):
+        low, median, high = np.nanquantile(values[:, j], (0.0, 0.5, 1.0))
+        lines.append(
+            f"  {name:<30} [{unit or 'no unit'}] min {low:.6g}, median {median:.6g}, max {high:.6g}"
+        )
+    return lines
 
 
 def _describe_predictions(path: Path) -> str:

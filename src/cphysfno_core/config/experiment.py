@@ -12,7 +12,7 @@ import tomllib
 import types
 import typing
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
@@ -22,6 +22,7 @@ from ..api.registry import Registry, get_registry
 from ..signals.errors import ConfigError
 from .precision import Precision
 from .toml_writer import dumps
+from .uncertainty import UncertainParameters, random_parameters, with_values
 
 
 class _Strict(BaseModel):
@@ -45,6 +46,33 @@ class ComponentSpec(BaseModel):
 
     def to_dict(self) -> dict[str, Any]:
         return {"name": self.name, **self.params}
+
+
+class StructureSpec(ComponentSpec):
+    """The structure by registry name with its parameters, any number among which may be a
+    distribution (:mod:`.uncertainty`): each record of a dataset then gets its own draw."""
+
+    @property
+    def params(self) -> dict[str, Any]:
+        """The nominal structure's parameters: each random one at its distribution's
+        median. :meth:`to_dict` keeps the distributions."""
+        raw = dict(self.model_extra or {})
+        nominal = {p.path: p.distribution.nominal for p in random_parameters(raw)}
+        return with_values(raw, nominal)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, **(self.model_extra or {})}
+
+
+class UncertaintyConfig(_Strict):
+    """How the structure's random parameters vary together."""
+
+    correlations: list[tuple[str, str, Annotated[float, Field(gt=-1.0, lt=1.0)]]] = Field(
+        default_factory=list,
+        description="[path, path, rho]: the correlation of two random parameters of the "
+        "structure (by dotted path, e.g. 'stiffnesses.0'), a Gaussian copula; the others "
+        "are independent",
+    )
 
 
 class DataConfig(_Strict):
@@ -218,7 +246,7 @@ class StudyConfig(_Strict):
 class ExperimentConfig(_Strict):
     """A whole study: structure, excitation, physics preprocessors, operator, refiner."""
 
-    structure: ComponentSpec
+    structure: StructureSpec
     ground_motion: ComponentSpec
     preprocessor: list[ComponentSpec] = Field(default_factory=list)
     operator: list[ComponentSpec] = Field(
@@ -232,6 +260,7 @@ class ExperimentConfig(_Strict):
     formulation: FormulationConfig = Field(default_factory=FormulationConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
     study: StudyConfig | None = None
+    uncertainty: UncertaintyConfig | None = None
 
     @field_validator("preprocessor", "operator", mode="before")
     @classmethod
@@ -258,6 +287,16 @@ class ExperimentConfig(_Strict):
                 f"data.n_train = {self.data.n_train}"
             )
         return self
+
+    def uncertain_parameters(self) -> UncertainParameters:
+        """The structure's random parameters and their correlations (none: a fixed
+        structure).
+
+        Raises:
+            ConfigError: a distribution or a correlation is invalid (the message names it).
+        """
+        correlations = self.uncertainty.correlations if self.uncertainty else []
+        return UncertainParameters.of(self.structure.to_dict(), correlations)
 
     def to_dict(self) -> dict[str, Any]:
         """The config as plain data (JSON types), its sections in the order of the fields."""
@@ -300,6 +339,7 @@ def parse_config(data: dict[str, Any], registry: Registry | None = None) -> Expe
         config = ExperimentConfig.model_validate(data)
     except ValidationError as error:
         raise ConfigError(format_validation_error(error)) from None
+    config.uncertain_parameters()
     check_components(config, registry)
     return config
 

@@ -6,7 +6,9 @@ File layout: ``ag [N, T]`` (m/s^2), ``u [N, T, n_out]`` (m), ``z/<preprocessor>
 ``n_train``, ``n_val``, ``n_test``, ``failures`` and ``non_converged`` (JSON: record
 index -> cause), ``recoveries`` (JSON: record index -> the hardest measure its analysis
 needed to converge), ``response_channels`` (JSON: the named responses among the extras, with
-their units) and ``complete``. :mod:`cphysfno_core.generation` writes it.
+their units) and ``complete``; with random structural parameters also ``params [N, k]``
+(float64, each record's draw; attributes ``names`` and ``units``, JSON lists).
+:mod:`cphysfno_core.generation` writes it.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import h5py
 import numpy as np
 
 from ..config.experiment import ExperimentConfig
+from ..config.uncertainty import UncertainParameters
 from ..signals import GroundMotions, ResponseChannel
 from ..signals.errors import DatasetError
 from ..signals.histories import ACCELERATION_EXTRA
@@ -55,6 +58,11 @@ class Dataset:
             channel ``[N, T, 1]`` in its unit).
         recoveries: record index -> the hardest measure its analysis needed to converge
             (an OpenSees structure's convergence ladder), for the records that needed one.
+        params: ``[N, k]`` each record's draw of the structure's random parameters, in
+            their units (``k = 0``: a fixed structure).
+        param_names: the dotted paths of the random parameters (``stiffnesses.0``), one
+            per column of ``params``.
+        param_units: the unit label of each column of ``params`` (empty where none).
     """
 
     ag: np.ndarray
@@ -70,10 +78,15 @@ class Dataset:
     non_converged: dict[int, str] = field(default_factory=dict)
     response_channels: tuple[ResponseChannel, ...] = ()
     recoveries: dict[int, str] = field(default_factory=dict)
+    params: np.ndarray | None = None
+    param_names: tuple[str, ...] = ()
+    param_units: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
             self.collapsed = np.zeros(self.u.shape[0], dtype=bool)
+        if self.params is None:
+            self.params = np.zeros((self.u.shape[0], 0))
 
     def _split_rows(self, split: str) -> np.ndarray:
         if split not in SPLITS:
@@ -182,12 +195,15 @@ def dataset_identity(config: ExperimentConfig) -> dict[str, Any]:
     full = config.to_dict()
     how = ("executor", "workers", "address", "retries", "chunk_size", "on_failure")
     data = {k: v for k, v in full["data"].items() if k not in how}
-    return {
+    identity = {
         "structure": full["structure"],
         "ground_motion": full["ground_motion"],
         "preprocessor": full["preprocessor"],
         "data": data,
     }
+    if config.uncertainty is not None:
+        identity["uncertainty"] = full["uncertainty"]
+    return identity
 
 
 def dataset_hash(config: ExperimentConfig) -> str:
@@ -256,6 +272,34 @@ def describe_arrays(
             f[path].attrs["description"] = description
 
 
+def write_draws(f: h5py.File, space: UncertainParameters, draws: np.ndarray) -> None:
+    """Keep each record's draw ``draws [N, k]`` of the random parameters ``space`` in the
+    open dataset ``f`` as ``params``, with their names and units; nothing for a fixed
+    structure."""
+    if not space.parameters:
+        return
+    stored = f.create_dataset("params", data=np.asarray(draws, dtype=np.float64))
+    stored.attrs["names"] = json.dumps(list(space.names))
+    stored.attrs["units"] = json.dumps(list(space.units))
+    stored.attrs["description"] = (
+        "each record's draw of the structure's random parameters [record, parameter]: "
+        "names (dotted paths) and units in the attributes"
+    )
+
+
+def read_draws(f: h5py.File) -> dict[str, Any]:
+    """The :class:`Dataset` fields ``params``, ``param_names`` and ``param_units`` of the
+    open dataset ``f`` (none for a fixed structure)."""
+    if "params" not in f:
+        return {}
+    stored = f["params"]
+    return {
+        "params": stored[...],
+        "param_names": tuple(json.loads(stored.attrs["names"])),
+        "param_units": tuple(json.loads(stored.attrs["units"])),
+    }
+
+
 def read_provenance(f: h5py.File) -> tuple[dict, ...]:
     """The ``records`` provenance of the open dataset ``f`` (empty for older files)."""
     if "records" not in f:
@@ -318,6 +362,7 @@ def load_dataset(path: str | Path) -> Dataset:
                 response_channels=tuple(
                     ResponseChannel(**c) for c in json.loads(f.attrs.get("response_channels", "[]"))
                 ),
+                **read_draws(f),
             )
     except (OSError, KeyError) as error:
         raise DatasetError(f"{path} is not a cphysfno dataset: {error}") from None

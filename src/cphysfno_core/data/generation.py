@@ -13,7 +13,9 @@ a dataset file at the final path is always complete. What the simulator printed 
 record (its warnings) is shown at the end, each distinct message once with its count, and
 kept in full in ``<name>-messages.log`` beside the dataset; so are the records counted by
 the hardest measure their analysis needed to converge (an OpenSees structure's convergence
-ladder), kept by record in the dataset's attribute ``recoveries``.
+ladder), kept by record in the dataset's attribute ``recoveries``. A structure with random
+parameters (:mod:`..config.uncertainty`) gets one draw a record, from its own stream under
+``data.seed``: drawn again, identically, when generation resumes, and kept in the dataset.
 """
 
 from __future__ import annotations
@@ -35,8 +37,9 @@ from ..api.interfaces import GroundMotionSource, Structure
 from ..api.registry import get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig
+from ..config.uncertainty import UncertainParameters, with_values
 from ..signals import GroundMotions
-from ..signals.errors import ConfigError, CphysfnoWarning, DatasetError
+from ..signals.errors import ConfigError, CphysfnoError, CphysfnoWarning, DatasetError
 from ..signals.progress import show_progress, time_left
 from .datasets import (
     SPLITS,
@@ -45,6 +48,7 @@ from .datasets import (
     describe_arrays,
     parts_folder,
     versions,
+    write_draws,
 )
 from .executors import run_tasks
 from .messages import full_log, summary
@@ -273,6 +277,32 @@ def check_setup(config: ExperimentConfig) -> Structure:
     return structure
 
 
+def check_draws(config: ExperimentConfig, space: UncertainParameters, draws: np.ndarray) -> None:
+    """Build the structure of every distinct draw ``draws [n, k]`` of the config's random
+    parameters ``space``, before any record is simulated.
+
+    Raises:
+        ConfigError: a draw makes no valid structure (the message names its first record,
+            its values and the structure's complaint).
+    """
+    if not space.parameters:
+        return
+    spec = config.structure.to_dict()
+    name = spec.pop("name")
+    registry = get_registry()
+    distinct, first = np.unique(draws, axis=0, return_index=True)
+    for row, record in zip(distinct, first, strict=True):
+        values = space.values_of(row)
+        try:
+            registry.create("structure", name, **with_values(spec, values))
+        except (CphysfnoError, ValueError) as error:
+            drawn = ", ".join(f"{path} = {value:.6g}" for path, value in values.items())
+            raise ConfigError(
+                f"record {record} draws a structure that is not valid ({drawn}): {error}; "
+                "bound the distributions (lower, upper) to the values the structure accepts"
+            ) from None
+
+
 def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool = True) -> Path:
     """Simulate ``config.data.n_records`` records into the HDF5 file ``path``.
 
@@ -292,6 +322,9 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     structure = check_setup(config)
     for pp in config.preprocessor:  # fail on a missing capability before any simulation
         get_registry().create("preprocessor", pp.name, **pp.params).fit(structure)
+    space = config.uncertain_parameters()
+    draws = space.draw(config.data.n_records, config.data.seed)
+    check_draws(config, space, draws)
     parts = parts_folder(path)
     motions, chunk = _start(config, parts, identity)
     n = motions.n_records
@@ -299,8 +332,10 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     todo = [i for i in range(len(bounds)) if not _chunk_path(parts, i).exists()]
     if progress and len(todo) < len(bounds):
         show_progress(f"  resuming: {len(bounds) - len(todo)} of {len(bounds)} chunks already done")
-    _simulate_chunks(config, structure, motions, bounds, todo, parts, progress)
-    messages, convergence = _assemble(config, structure, motions, bounds, parts, path, identity)
+    _simulate_chunks(config, space.names, draws, motions, bounds, todo, parts, progress)
+    messages, convergence = _assemble(
+        config, structure, (space, draws), motions, bounds, parts, path, identity
+    )
     shutil.rmtree(parts)
     _report_messages(messages, path, progress)
     if progress and convergence:
@@ -338,8 +373,8 @@ def progress_line(done: int, total: int, elapsed: float) -> str:
     return f"{done}/{total} records ({speed}, {time_left(left)})"
 
 
-def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) -> None:
-    structure_spec = {"name": structure.name, **structure.get_params()}
+def _simulate_chunks(config, parameters, draws, motions, bounds, todo, parts, progress) -> None:
+    structure_spec = config.structure.to_dict()
     pp_specs = [p.to_dict() for p in config.preprocessor]
     total = sum(bounds[i][1] - bounds[i][0] for i in todo)
     started = time.perf_counter()
@@ -392,17 +427,20 @@ def _simulate_chunks(config, structure, motions, bounds, todo, parts, progress) 
             show_progress(f"  simulated {line}")
 
     def arguments(i: int) -> tuple[Any, ...]:
-        return structure_spec, pp_specs, motions.rows(*bounds[i]), motions.dt
+        start, stop = bounds[i]
+        rows = motions.rows(start, stop)
+        return structure_spec, pp_specs, rows, motions.dt, parameters, draws[start:stop]
 
     run_tasks(simulate_chunk, todo, arguments, config.data, store)
 
 
 def _assemble(
-    config, structure, motions, bounds, parts, path, identity
+    config, structure, drawn, motions, bounds, parts, path, identity
 ) -> tuple[dict[int, str], str]:
-    """Copy the chunks, one at a time, into a new HDF5 file renamed into place at the end;
-    return what the simulator printed, by record, and the records counted by what they
-    needed to converge (:func:`.recoveries.convergence_summary`)."""
+    """Copy the chunks, one at a time, into a new HDF5 file renamed into place at the end,
+    with the ``drawn`` random parameters (their :class:`UncertainParameters` and draws
+    ``[n, k]``); return what the simulator printed, by record, and the records counted by
+    what they needed to converge (:func:`.recoveries.convergence_summary`)."""
     shape = (motions.n_records, motions.n_steps, structure.n_outputs)
     messages: dict[int, str] = {}
     convergence = ""
@@ -450,6 +488,7 @@ def _assemble(
             recoveries = {int(i): measure for i, measure in listed["recoveries"].items()}
             convergence = convergence_summary(recoveries, complete)
             describe_arrays(f, list(structure.output_names), structure.response_channels())
+            write_draws(f, *drawn)
             f.attrs["complete"] = True
 
     _write_atomic(path, write)

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..api.registry import get_registry
+from ..config.uncertainty import with_values
 from ..signals import GroundMotions
 from ..signals.errors import PluginError
 
@@ -124,6 +125,8 @@ def simulate_chunk(
     preprocessor_specs: list[dict[str, Any]],
     acceleration: np.ndarray,
     dt: float,
+    parameters: tuple[str, ...] = (),
+    draws: np.ndarray | None = None,
 ) -> ChunkResult:
     """Truth and physics responses of one chunk of records; runs in a worker process.
 
@@ -132,9 +135,26 @@ def simulate_chunk(
     failed, its cause naming the output; if the chunk raises, the records are simulated one
     at a time to find which fail and why. A failed record's rows are NaN and its cause is
     in ``failures``.
+
+    With random parameters (their dotted ``parameters`` paths in ``structure_spec``, whose
+    distributions they name, and ``draws [n, k]`` their values for each record), each
+    distinct draw builds its own structure and fits its own preprocessors, and simulates
+    the records that drew it.
     """
-    parts = _Parts(structure_spec, preprocessor_specs)
     motions = GroundMotions(acceleration, dt)
+    if not parameters:
+        return _simulate(_Parts(structure_spec, preprocessor_specs), motions)
+    distinct, which = np.unique(draws, axis=0, return_inverse=True)
+    pieces = []
+    for d, row in enumerate(distinct):
+        spec = with_values(structure_spec, dict(zip(parameters, row, strict=True)))
+        rows = np.flatnonzero(which.ravel() == d)
+        pieces.append((rows, _simulate(_Parts(spec, preprocessor_specs), motions[rows])))
+    return _gather(pieces, motions.n_records)
+
+
+def _simulate(parts: _Parts, motions: GroundMotions) -> ChunkResult:
+    """:func:`simulate_chunk` of one structure."""
     try:
         result = parts.run(motions)
     except PluginError:
@@ -146,6 +166,36 @@ def simulate_chunk(
             result.failures[i] = cause
             _blank(result, i)
     return result
+
+
+def _gather(pieces: list[tuple[np.ndarray, ChunkResult]], n: int) -> ChunkResult:
+    """One result of ``n`` records from the results of groups of them, each with its
+    record indices ``[m]``; an extra channel a group lacks (all its records failed) is NaN
+    there."""
+
+    def place(pick) -> np.ndarray:
+        known = [(rows, pick(result)) for rows, result in pieces if pick(result) is not None]
+        template = known[0][1]
+        out = np.full((n, *template.shape[1:]), np.nan, dtype=template.dtype)
+        for rows, values in known:
+            out[rows] = values
+        return out
+
+    def renumber(pick) -> dict[int, str]:
+        return {int(rows[i]): text for rows, result in pieces for i, text in pick(result).items()}
+
+    extras = {name for _, result in pieces for name in result.extras}
+    first = pieces[0][1]
+    return ChunkResult(
+        place(lambda r: r.u),
+        {name: place(lambda r, k=name: r.extras.get(k)) for name in sorted(extras)},
+        {name: place(lambda r, k=name: r.z[k]) for name in first.z},
+        renumber(lambda r: r.failures),
+        place(lambda r: r.collapsed),
+        renumber(lambda r: r.messages),
+        renumber(lambda r: r.non_converged),
+        renumber(lambda r: r.recoveries),
+    )
 
 
 def _blank(result: ChunkResult, i: int) -> None:
