@@ -172,3 +172,17 @@ def test_still_ground_has_zero_measures():
 def test_bad_input_is_an_input_error(call, message):
     with pytest.raises(cp.InputError, match=message):
         call()
+
+
+def test_spectral_acceleration_of_a_slowly_growing_sine_is_its_steady_state():
+    """Under ``a_g = A sin(w t)``, brought in smoothly (a sin^2 envelope over 60 s) so that
+    no transient overshoots, a 5 % damped oscillator of period T settles at the amplitude
+    ``A / |w_n^2 - w^2 + 2 i zeta w_n w|``; Sa is ``w_n^2`` times it (within 0.13 %)."""
+    dt, amplitude, w = 0.01, 2.0, 2 * np.pi / 2.0
+    t = np.arange(int(200.0 / dt) + 1) * dt
+    ag = amplitude * np.sin(w * t) * np.where(t < 60.0, np.sin(np.pi * t / 120.0) ** 2, 1.0)
+    for period in (0.5, 1.0, 3.0):
+        wn = 2 * np.pi / period
+        steady = wn**2 * amplitude / abs(wn**2 - w**2 + 2j * 0.05 * wn * w)
+        found = intensity.spectral_acceleration(ag[None], dt, period)
+        np.testing.assert_allclose(found, [steady], rtol=5e-3)

@@ -34,8 +34,8 @@ from ..signals.intensity import (
     average_spectral_acceleration,
     peak_ground_acceleration,
     peak_ground_velocity,
-    response_spectrum,
     significant_duration,
+    spectral_acceleration,
 )
 from . import edp
 
@@ -49,11 +49,9 @@ terms); on fewer its mean is a constant."""
 
 
 def _spectral(factor: float) -> Callable[[GroundMotions, float], np.ndarray]:
-    def sa(motions: GroundMotions, period: float) -> np.ndarray:
-        spectrum = response_spectrum(motions.acceleration, motions.dt, [factor * period])
-        return spectrum.pseudo_acceleration[:, 0]
-
-    return sa
+    return lambda motions, period: spectral_acceleration(
+        motions.acceleration, motions.dt, factor * period
+    )
 
 
 GP_INTENSITY_MEASURES: dict[str, tuple[str, Callable[[GroundMotions, float], np.ndarray]]] = {

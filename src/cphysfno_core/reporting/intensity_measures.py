@@ -23,7 +23,7 @@ from ..signals.intensity import (
     average_spectral_acceleration,
     peak_ground_acceleration,
     peak_ground_velocity,
-    response_spectrum,
+    spectral_acceleration,
 )
 
 FORMS = ("sa-t1", "sa:T", "sa-avg", "sa-avg:A-B", "pga", "pgv")
@@ -76,8 +76,7 @@ def _period(text: str, what: str) -> float:
 
 def _spectral(name: str, period: float) -> IntensityMeasure:
     def sa(motions: GroundMotions) -> np.ndarray:
-        spectrum = response_spectrum(motions.acceleration, motions.dt, [period])
-        return spectrum.pseudo_acceleration[:, 0]
+        return spectral_acceleration(motions.acceleration, motions.dt, period)
 
     return IntensityMeasure(name, f"Sa({period:.4g} s), 5 % damped", "m/s^2", (period,), sa)
 

@@ -240,6 +240,14 @@ def response_spectrum(
     return ResponseSpectrum(periods.copy(), _check_damping(damping), peaks)
 
 
+def spectral_acceleration(
+    acceleration: np.ndarray, dt: float, period: float, damping: float = 0.05
+) -> np.ndarray:
+    """``[n]`` the pseudo-spectral acceleration Sa(``period``) of every record, m/s^2
+    (5 % damping by default): ``(2 pi / T)^2`` times the oscillator's peak displacement."""
+    return response_spectrum(acceleration, dt, [period], damping).pseudo_acceleration[:, 0]
+
+
 def average_spectral_acceleration(
     acceleration: np.ndarray,
     dt: float,
