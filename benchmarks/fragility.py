@@ -28,6 +28,7 @@ import numpy as np
 import cphysfno_core as cp
 from cphysfno_core.app import pipeline
 from cphysfno_core.app.fragility_study import draw, parse_limit_states, run_fragility
+from cphysfno_core.config import ExperimentConfig
 
 from .common import Row, Timing, cores, load_average
 
@@ -50,7 +51,7 @@ def _trained_run(folder: Path) -> Path:
     return out
 
 
-def _median_peak_drift(run_folder: Path, config: cp.ExperimentConfig) -> float:
+def _median_peak_drift(run_folder: Path, config: ExperimentConfig) -> float:
     """The median over the run's simulated test records of their peak story drift ratio:
     a limit state that half of them exceed."""
     data = cp.load_dataset(run_folder / "dataset.h5")

@@ -15,6 +15,7 @@ import numpy as np
 from numpy._core.multiarray import _set_madvise_hugepage
 
 import cphysfno_core as cp
+from cphysfno_core.config import ExperimentConfig
 from cphysfno_core.config.allocator import retain_freed_memory
 
 from .common import Row, peak_rss_mib
@@ -23,7 +24,7 @@ FIRST_CALL_PROCESSES = 3
 """Fresh processes timed per setting in :func:`first_call_row`."""
 
 
-def _config(n_records: int) -> cp.ExperimentConfig:
+def _config(n_records: int) -> ExperimentConfig:
     return cp.parse_config(
         {
             "structure": {"name": "bouc-wen-shear-building"},

@@ -16,6 +16,7 @@ import numpy as np
 import scipy.signal
 
 import cphysfno_core as cp
+from cphysfno_core.plugin import LinearSystem, Structure
 from cphysfno_core.reporting import metrics
 
 from .common import Row, load_average, median_time, on_cores
@@ -107,7 +108,7 @@ def run(quick: bool = False) -> list[Row]:
     ]
 
 
-def _lsim(system: cp.LinearSystem, motions: cp.GroundMotions) -> np.ndarray:
+def _lsim(system: LinearSystem, motions: cp.GroundMotions) -> np.ndarray:
     """``[n, T, d]`` responses by ``scipy.signal.lsim``, the records one by one."""
     n = system.n_dof
     a = np.block(
@@ -126,13 +127,13 @@ def _lsim(system: cp.LinearSystem, motions: cp.GroundMotions) -> np.ndarray:
     return np.stack(out)
 
 
-def _generic_modal(building: cp.Structure, motions: cp.GroundMotions):
+def _generic_modal(building: Structure, motions: cp.GroundMotions):
     """``modal`` (r = 2) through the NumPy path, as a function of no arguments."""
     generic_type = type(
         "WithoutProjectedSimulation",
         (type(building),),
         {
-            "simulate_projected": cp.Structure.simulate_projected,
+            "simulate_projected": Structure.simulate_projected,
             "capabilities": building.capabilities - {"projected_simulation"},
         },
     )

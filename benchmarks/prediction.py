@@ -25,8 +25,10 @@ from pydantic import Field
 from scipy.linalg import eigh
 
 import cphysfno_core as cp
+from cphysfno_core import plugin
 from cphysfno_core.model import composite
 from cphysfno_core.model.training import Normalizer, TrainingHistory, describe_device
+from cphysfno_core.plugin import LinearSystem, Structure
 
 from .common import Row, best_time
 from .training import best_matmul_rate
@@ -36,7 +38,7 @@ EXAMPLE1_OPERATOR = {"layers": 6, "modes": 32, "width": 64, "projection_width": 
 EXAMPLE1_STIFFNESS = (7.5e7, 7.0e7, 6.0e7, 4.5e7, 2.5e7)
 
 
-class LinearShearBuilding(cp.Structure):
+class LinearShearBuilding(Structure):
     """A linear shear building with classical damping, for benchmarks of the ELS path.
 
     Floors ``1..n`` carry the mass ``floor_mass_kg``; story ``i`` (between floors ``i - 1``
@@ -48,7 +50,7 @@ class LinearShearBuilding(cp.Structure):
     name = "benchmark-linear-shear-building"
     capabilities = frozenset({"linear_system"})
 
-    class Params(cp.Params):
+    class Params(plugin.Params):
         floor_mass_kg: float = Field(3.0e4, gt=0)
         story_stiffness_n_per_m: tuple[float, ...] = EXAMPLE1_STIFFNESS
         damping_ratio: float = Field(0.05, ge=0, lt=1)
@@ -64,13 +66,13 @@ class LinearShearBuilding(cp.Structure):
         stiffness -= np.diag(k[1:], 1) + np.diag(k[1:], -1)
         return np.eye(n) * self.params.floor_mass_kg, stiffness
 
-    def linear_system(self) -> cp.LinearSystem:
+    def linear_system(self) -> LinearSystem:
         mass, stiffness = self._mass_stiffness()
         omega2, shapes = eigh(stiffness, mass)
         modal = np.diag(2.0 * self.params.damping_ratio * np.sqrt(omega2))
         damping = mass @ shapes @ modal @ shapes.T @ mass
         n = mass.shape[0]
-        return cp.LinearSystem(mass, damping, stiffness, np.ones(n), np.eye(n))
+        return LinearSystem(mass, damping, stiffness, np.ones(n), np.eye(n))
 
     def periods(self, n: int | None = None) -> np.ndarray:
         omega2 = eigh(*reversed(self._mass_stiffness()), eigvals_only=True)

@@ -40,6 +40,9 @@ import numpy as np
 
 import cphysfno_core as cp
 from cphysfno_core import CphysfnoWarning, GroundMotions, edp
+from cphysfno_core.config import ExperimentConfig
+from cphysfno_core.plugin import Structure
+from cphysfno_core.reporting.metrics import relative_l2
 
 from .common import Timing, load_average, machine, median_time, on_cores
 
@@ -61,7 +64,7 @@ def pooled_l2(estimate: np.ndarray, truth: np.ndarray) -> float:
     return float(np.sqrt(np.sum((estimate - truth) ** 2) / np.sum(truth**2)))
 
 
-def _structure(config: cp.ExperimentConfig, workers: int) -> cp.Structure:
+def _structure(config: ExperimentConfig, workers: int) -> Structure:
     return cp.create(
         "structure", config.structure.name, **{**config.structure.params, "workers": workers}
     )
@@ -106,7 +109,7 @@ def physics(name: str, n_records: int) -> dict:
         "kept_peak_drift_ratio": [float(largest[keep].min()), float(largest[keep].max())],
         "median_peak_drift_ratio_per_story": np.nanmedian(pid[keep], axis=0).tolist(),
         "pooled_rel_l2": {k: pooled_l2(v, u) for k, v in z.items()},
-        "rel_l2_per_output": {k: cp.metrics.relative_l2(v, u).tolist() for k, v in z.items()},
+        "rel_l2_per_output": {k: relative_l2(v, u).tolist() for k, v in z.items()},
         "target": TARGETS.get(name),
         "calibration": {
             "law": calibration.law,

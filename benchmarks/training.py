@@ -22,7 +22,7 @@ from cphysfno_fno import FNO1d
 from cphysfno_fno.dense import product
 
 import cphysfno_core as cp
-from cphysfno_core import TrainingConfig
+from cphysfno_core.config import TrainingConfig
 from cphysfno_core.model.training import (
     Normalizer,
     describe_device,

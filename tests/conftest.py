@@ -7,6 +7,7 @@ import pytest
 
 import cphysfno_core as cp
 from cphysfno_core.api.registry import set_registry
+from cphysfno_core.plugin import Registry
 
 sys.path.insert(0, str(Path(__file__).parent))
 
@@ -16,7 +17,7 @@ import toy_components  # noqa: E402
 @pytest.fixture
 def toy_registry():
     """The process registry replaced by one holding only the toy components."""
-    registry = cp.Registry(autoload=False, plugins=(toy_components,))
+    registry = Registry(autoload=False, plugins=(toy_components,))
     set_registry(registry)
     yield registry
     set_registry(None)

@@ -11,6 +11,7 @@ import torch
 import cphysfno_core as cp
 from cphysfno_core import edp
 from cphysfno_core.app import pipeline
+from cphysfno_core.config import ComponentSpec, FormulationConfig
 from cphysfno_core.model.prediction_files import predict_file
 from cphysfno_core.model.training import relative_l2_loss
 
@@ -101,12 +102,12 @@ def test_a_model_refuses_accelerations_it_does_not_learn_and_wants_those_it_does
     structure = cp.create("structure", "toy-accelerating")
     responses = structure.simulate(motions)
     u, a = responses.displacement, responses.extras["absolute_acceleration"]
-    plain = cp.CompositeModel(cp.ComponentSpec.of("toy-operator", {"width": 2}))
+    plain = cp.CompositeModel(ComponentSpec.of("toy-operator", {"width": 2}))
     with pytest.raises(cp.ConfigError, match="does not learn them"):
         plain.fit(motions, u, (motions, u), acceleration=a, validation_acceleration=a)
     learning = cp.CompositeModel(
-        cp.ComponentSpec.of("toy-operator", {"width": 2}),
-        formulation=cp.FormulationConfig(accelerations=True),
+        ComponentSpec.of("toy-operator", {"width": 2}),
+        formulation=FormulationConfig(accelerations=True),
     )
     with pytest.raises(cp.ConfigError, match="give the training records' absolute"):
         learning.fit(motions, u, (motions, u))

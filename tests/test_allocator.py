@@ -66,10 +66,11 @@ LIBRARY_TUNES_PROGRAM = """
 import os, sys
 import numpy as np
 import cphysfno_core as cp
+from cphysfno_core.plugin import get_registry
 from numpy._core.multiarray import _get_madvise_hugepage
 sys.path.insert(0, sys.argv[1])
 import toy_components
-registry = cp.get_registry()
+registry = get_registry()
 registry.register(toy_components, "toys")
 source = cp.create("ground_motion", "toy-source", n_steps=40, dt=0.02)
 structure = cp.create("structure", "toy-structure")

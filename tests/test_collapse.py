@@ -14,6 +14,7 @@ import cphysfno_core as cp
 from cphysfno_core.app import pipeline
 from cphysfno_core.app.cli import main
 from cphysfno_core.app.inspection import describe_file
+from cphysfno_core.plugin import hookimpl
 
 CONFIG = {
     "ground_motion": {"name": "toy-source", "n_steps": 60, "scale": 0.2},
@@ -65,7 +66,7 @@ class StallingStructure(CollapsingStructure):
         return cp.Responses(displacement, motions.dt, non_converged=stopped)
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_structures():
     return [CollapsingStructure, StallingStructure]
 

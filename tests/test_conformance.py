@@ -11,8 +11,9 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core import testing
+from cphysfno_core.plugin import LinearSystem, NeuralOperator, Registry
 
-REGISTRY = cp.Registry()
+REGISTRY = Registry()
 
 
 EXAMPLE_PARAMS = {
@@ -113,7 +114,7 @@ class DriftingStructure(toy_components.ToyStructure):
 def _oscillators(structure):
     """The toy structure's two independent unit-mass oscillators as a linear system."""
     w = 2 * np.pi * np.asarray(structure.params.frequencies_hz)
-    return cp.LinearSystem(np.eye(2), np.diag(0.04 * w), np.diag(w**2), [1.0, 1.0], np.eye(2))
+    return LinearSystem(np.eye(2), np.diag(0.04 * w), np.diag(w**2), [1.0, 1.0], np.eye(2))
 
 
 class UndeclaredLinearSystem(toy_components.ToyStructure):
@@ -294,7 +295,7 @@ def test_operator_check_wants_the_packages_error_for_bad_input():
 
 
 def test_an_operator_without_a_linear_layer_cannot_start_at_zero():
-    class Spectral(cp.NeuralOperator):
+    class Spectral(NeuralOperator):
         name = "spectral-only"
 
         def forward(self, x):

@@ -7,7 +7,8 @@ import warnings
 import numpy as np
 import pytest
 
-from cphysfno_core import InputError, Stories, edp
+from cphysfno_core import InputError, edp
+from cphysfno_core.plugin import Stories
 from cphysfno_core.reporting.demands import STANDARD_GRAVITY, write_pelicun_demands
 from cphysfno_core.signals import ResponseChannel
 

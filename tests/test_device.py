@@ -8,6 +8,7 @@ import pytest
 import torch
 
 import cphysfno_core as cp
+from cphysfno_core.config import TrainingConfig
 from cphysfno_core.model.training import describe_device, resolve_device
 
 CUDA = torch.cuda.is_available()
@@ -22,7 +23,7 @@ def toy_model(toy_records):
 
 @pytest.mark.parametrize("name", ["auto", "cpu", "cuda", "cuda:1", "mps"])
 def test_device_names_are_validated_by_the_config(name):
-    assert cp.TrainingConfig(device=name).device == name
+    assert TrainingConfig(device=name).device == name
 
 
 @pytest.mark.parametrize("name", ["gpu", "cuda:x", "CPU", ""])

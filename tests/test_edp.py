@@ -7,20 +7,21 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core import edp
+from cphysfno_core.plugin import LinearSystem, Rayleigh, Stories
 from cphysfno_core.signals import ResponseChannel
 from cphysfno_core.testing import small_motions
 
 MASS, K1, K2 = 2.0e5, 4.0e7, 2.5e7  # kg, N/m: 1.3 and 3.1 Hz
 H1, H2 = 4.0, 3.0  # m
-TWO_STORIES = cp.Stories.stacked([H1, H2])
+TWO_STORIES = Stories.stacked([H1, H2])
 
 
-def _two_story_system(damping_ratio: float = 0.0) -> cp.LinearSystem:
+def _two_story_system(damping_ratio: float = 0.0) -> LinearSystem:
     m = np.diag([MASS, MASS])
     k = np.array([[K1 + K2, -K2], [-K2, K2]])
     omega = np.sqrt(np.linalg.eigvalsh(np.linalg.solve(m, k)))
-    rayleigh = cp.Rayleigh.matching(omega[0], omega[1], damping_ratio)
-    return cp.LinearSystem(m, rayleigh.matrix(m, k), k, np.ones(2), np.eye(2))
+    rayleigh = Rayleigh.matching(omega[0], omega[1], damping_ratio)
+    return LinearSystem(m, rayleigh.matrix(m, k), k, np.ones(2), np.eye(2))
 
 
 def _harmonic_case(seconds: float = 2.0, dt: float = 0.01):
@@ -141,7 +142,7 @@ def test_floor_acceleration_from_displacement_agrees_with_the_exact_linear_respo
 
 def test_a_bridge_like_structure_has_one_story_per_pier_top():
     motions, u, (u1, u2), *_ = _harmonic_case()
-    piers = cp.Stories((None, None), (0, 1), (6.3, 8.1))
+    piers = Stories((None, None), (0, 1), (6.3, 8.1))
     found = edp.compute(u, piers, motions)
     np.testing.assert_allclose(found.pid[0], [abs(u1) / 6.3, abs(u2) / 8.1], rtol=1e-12)
 

@@ -7,6 +7,7 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core.app import pipeline
+from cphysfno_core.data import Dataset
 
 CONFIG = {
     "ground_motion": {"name": "toy-source", "n_steps": 60, "scale": 0.2},
@@ -108,7 +109,7 @@ def test_a_plugin_returning_a_wrong_shape_is_named(toy_registry, tmp_path):
 
 
 def test_a_split_whose_records_all_failed_is_refused_with_the_cause():
-    data = cp.Dataset(
+    data = Dataset(
         ag=np.zeros((5, 10)),
         u=np.zeros((5, 10, 1)),
         z={},

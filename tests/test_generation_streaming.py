@@ -6,6 +6,7 @@ import pytest
 
 import cphysfno_core as cp
 from cphysfno_core.data import generation
+from cphysfno_core.plugin import get_registry
 
 BASE = {
     "structure": {"name": "toy-structure"},
@@ -73,7 +74,7 @@ def test_a_source_with_too_few_records_is_refused_and_leaves_no_motions(requeste
 
 
 def test_a_source_that_changes_its_grid_between_blocks_is_named(requested, monkeypatch, tmp_path):
-    cls = cp.get_registry().entry("ground_motion", "toy-source").cls
+    cls = get_registry().entry("ground_motion", "toy-source").cls
     sample = cls.sample
     calls = iter(range(100))
 

@@ -8,12 +8,14 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
+from cphysfno_core import plugin
 from cphysfno_core.data import generation
 from cphysfno_core.data.datasets import dataset_hash
 from cphysfno_core.data.splits import grouped_order
+from cphysfno_core.plugin import GroundMotionSource, hookimpl
 
 
-class ToyStations(cp.GroundMotionSource):
+class ToyStations(GroundMotionSource):
     """A record set of ``stations`` x ``copies`` records; sample 0 of a record is its
     station, sample 1 its copy, the rest noise; the metadata name the station (and,
     with ``label_last = false``, not for the last record)."""
@@ -21,7 +23,7 @@ class ToyStations(cp.GroundMotionSource):
     name = "toy-stations"
     independent_draws = False
 
-    class Params(cp.Params):
+    class Params(plugin.Params):
         stations: int = 6
         copies: int = 2
         n_steps: int = 40
@@ -39,7 +41,7 @@ class ToyStations(cp.GroundMotionSource):
         return cp.GroundMotions(ag, 0.02, metadata)[rng.permutation(size)[:n]]
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_ground_motions():
     return [ToyStations]
 

@@ -7,8 +7,9 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core.model import ModelLabel
+from cphysfno_core.plugin import Registry
 
-REGISTRY = cp.Registry()
+REGISTRY = Registry()
 
 
 def _every_label():

@@ -11,9 +11,10 @@ SCRIPT = """
 import sys
 sys.path.insert(0, {tests!r})
 import cphysfno_core as cp
+from cphysfno_core.plugin import get_registry
 import toy_components
 import toy_experiment
-cp.get_registry().register(toy_components, "toys")
+get_registry().register(toy_components, "toys")
 text = toy_experiment.toy_experiment(
     n_steps=50, data=dict(n_train=4, n_val=2, n_test=2, chunk_size=2)
 ).replace('executor = "serial"', 'executor = "processes"\\nworkers = 2')

@@ -6,6 +6,7 @@ import pytest
 
 import cphysfno_core as cp
 from cphysfno_core.app.cli import main
+from cphysfno_core.plugin import TimeGrid
 
 
 @pytest.fixture
@@ -43,7 +44,7 @@ def test_a_bare_array_with_its_step_and_records_on_another_grid_with_on_grid(
     saved, tmp_path, capsys
 ):
     model, folder, gm = saved
-    fine = gm.on_grid(cp.TimeGrid(0.01, 200))
+    fine = gm.on_grid(TimeGrid(0.01, 200))
     array = tmp_path / "fine.npy"
     np.save(array, fine.acceleration)
     out = tmp_path / "fine-pred.npz"

@@ -12,6 +12,7 @@ import toy_components
 import cphysfno_core as cp
 from cphysfno_core.app.inspection import describe_file
 from cphysfno_core.data.recoveries import convergence_summary
+from cphysfno_core.plugin import hookimpl
 
 CONFIG = {
     "ground_motion": {"name": "toy-source", "n_steps": 60, "scale": 0.2},
@@ -49,7 +50,7 @@ class StrugglingStructure(toy_components.ToyStructure):
         return cp.Responses(displacement, motions.dt, non_converged=stopped, recoveries=recoveries)
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_structures():
     return [StrugglingStructure]
 

@@ -6,6 +6,8 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core.app.cli import main
+from cphysfno_core.config import ExperimentConfig
+from cphysfno_core.plugin import Registry, get_registry, hookimpl
 
 
 def test_create_builds_a_validated_component(toy_registry):
@@ -45,13 +47,13 @@ def _toy_names():
 def _plugin(name, **hooks):
     module = types.ModuleType(name)
     for hook, value in hooks.items():
-        setattr(module, hook, cp.hookimpl(value))
+        setattr(module, hook, hookimpl(value))
     return module
 
 
 def test_a_name_claimed_twice_names_both_providers():
     twin = _plugin("twin", cphysfno_structures=lambda: [toy_components.ToyStructure])
-    registry = cp.Registry(autoload=False, plugins=(toy_components,))
+    registry = Registry(autoload=False, plugins=(toy_components,))
     registry.register(twin, distribution="twin-dist 9.9")
     with pytest.raises(cp.RegistryError, match="provided by both.*twin-dist 9.9"):
         registry.create("structure", "toy-structure")
@@ -67,7 +69,7 @@ def test_a_broken_plugin_is_reported_and_the_rest_still_work():
 
     broken = _plugin("broken", cphysfno_operators=explode)
     not_a_class = _plugin("odd", cphysfno_refiners=lambda: [object])
-    registry = cp.Registry(autoload=False, plugins=(toy_components, broken, not_a_class))
+    registry = Registry(autoload=False, plugins=(toy_components, broken, not_a_class))
     registry.register("no_such_module_anywhere")
     errors = {b.plugin: b.error for b in registry.broken}
     assert "RuntimeError: boom" in errors["broken"]
@@ -104,7 +106,7 @@ def test_plugins_command_lists_components_parameters_and_broken(toy_registry, ca
 
 
 def test_real_entry_points_are_found():
-    registry = cp.Registry()
+    registry = Registry()
     kinds = {e.kind for e in registry.entries()}
     assert kinds, "no plugin found through the cphysfno entry-point group"
     assert all(e.distribution.startswith("cphysfno-") for e in registry.entries())
@@ -117,7 +119,7 @@ def test_one_list_of_kinds_makes_the_hooks_and_the_config_sections():
 
     hooks = {name for name in vars(plugin_manager().hook) if name.startswith("cphysfno_")}
     assert hooks == {kind.hook for kind in KINDS}
-    sections = {k.name for k in KINDS} & set(cp.ExperimentConfig.model_fields)
+    sections = {k.name for k in KINDS} & set(ExperimentConfig.model_fields)
     assert sections == {"structure", "ground_motion", "preprocessor", "operator", "refiner"}
     with pytest.raises(cp.RegistryError, match="unknown component kind 'story'.*structure"):
         cp.create("story", "x")
@@ -132,7 +134,7 @@ def test_the_readme_lists_every_registered_component(capsys):
     assert main(["plugins", "--markdown"]) == 0
     printed = capsys.readouterr().out.strip()
     assert readme[start:end].strip() == printed
-    assert printed.count("\n") - 1 == len(cp.get_registry().entries())
+    assert printed.count("\n") - 1 == len(get_registry().entries())
 
 
 def test_version(capsys):

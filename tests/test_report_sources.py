@@ -12,6 +12,7 @@ from toy_experiment import toy_experiment
 
 import cphysfno_core as cp
 from cphysfno_core.app.cli import main
+from cphysfno_core.plugin import hookimpl
 from cphysfno_core.reporting import figures
 from cphysfno_core.reporting.paper_tables import PAPER_TABLES, paper_table
 from cphysfno_core.signals.intensity import SpectrumBand
@@ -44,8 +45,8 @@ class PushedStructure(toy_components.ToyStructure):
 @pytest.fixture
 def registry():
     plugin = types.ModuleType("extras")
-    plugin.cphysfno_ground_motions = cp.hookimpl(lambda: [BandedSource])
-    plugin.cphysfno_structures = cp.hookimpl(lambda: [PushedStructure])
+    plugin.cphysfno_ground_motions = hookimpl(lambda: [BandedSource])
+    plugin.cphysfno_structures = hookimpl(lambda: [PushedStructure])
     with toy_components.registered(plugin) as registry:
         yield registry
 

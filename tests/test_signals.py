@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
+from cphysfno_core.plugin import LinearSystem, Rayleigh
 from cphysfno_core.signals import record_slices, run_in_slices, usable_cpus
 
 
@@ -59,22 +60,22 @@ def test_resample_is_linear_between_samples_and_holds_the_end():
 
 def test_linear_system_checks_shapes():
     eye = np.eye(2)
-    system = cp.LinearSystem(eye, eye, eye, np.ones(2), eye)
+    system = LinearSystem(eye, eye, eye, np.ones(2), eye)
     assert system.n_dof == 2
     with pytest.raises(cp.InputError, match=r"stiffness must be \[2, 2\]"):
-        cp.LinearSystem(eye, eye, np.eye(3), np.ones(2), eye)
+        LinearSystem(eye, eye, np.eye(3), np.ones(2), eye)
 
 
 def test_state_space_of_a_single_oscillator_is_the_textbook_one():
     m, c, k = 2.0, 0.3, 50.0
-    system = cp.LinearSystem([[m]], [[c]], [[k]], [1.0], [[1.0]])
+    system = LinearSystem([[m]], [[c]], [[k]], [1.0], [[1.0]])
     a, b = system.state_space()
     np.testing.assert_allclose(a, [[0.0, 1.0], [-k / m, -c / m]])
     np.testing.assert_allclose(b, [0.0, -1.0])
 
 
 def test_rayleigh_damping_matches_its_ratio_at_both_frequencies():
-    damping = cp.Rayleigh.matching(2.0, 12.0, 0.05)
+    damping = Rayleigh.matching(2.0, 12.0, 0.05)
     # a0 = 2 zeta w_a w_b / (w_a + w_b), a1 = 2 zeta / (w_a + w_b)
     assert damping.mass_factor == pytest.approx(2 * 0.05 * 24.0 / 14.0)
     assert damping.stiffness_factor == pytest.approx(0.1 / 14.0)
@@ -86,7 +87,7 @@ def test_rayleigh_damping_matches_its_ratio_at_both_frequencies():
         damping.mass_factor * mass + damping.stiffness_factor * stiffness,
     )
     with pytest.raises(cp.InputError, match="Rayleigh frequencies"):
-        cp.Rayleigh.matching(0.0, 12.0, 0.05)
+        Rayleigh.matching(0.0, 12.0, 0.05)
 
 
 def test_usable_cpus_are_those_the_process_may_run_on(monkeypatch):

@@ -6,10 +6,11 @@ import toy_components
 
 import cphysfno_core as cp
 from cphysfno_core import testing
+from cphysfno_core.plugin import Stories
 
 
 def test_stacked_stories_chain_the_floors_bottom_up():
-    stories = cp.Stories.stacked([5.49, 3.96, 3.96])
+    stories = Stories.stacked([5.49, 3.96, 3.96])
     assert stories.lower == (None, 0, 1)
     assert stories.upper == (0, 1, 2)
     assert stories.heights_m == (5.49, 3.96, 3.96)
@@ -18,13 +19,13 @@ def test_stacked_stories_chain_the_floors_bottom_up():
 
 
 def test_piers_over_the_ground_are_stories_too():
-    stories = cp.Stories((None, None), (np.int64(1), 0), (6.3, 8.1))
+    stories = Stories((None, None), (np.int64(1), 0), (6.3, 8.1))
     assert stories.upper == (1, 0) and type(stories.upper[0]) is int
     assert stories.floors == (0, 1)
 
 
 def test_drifts_and_the_first_sample_past_a_drift_ratio_by_hand():
-    stories = cp.Stories.stacked([4.0, 2.0])
+    stories = Stories.stacked([4.0, 2.0])
     # two records, three samples, two floors (m)
     u = np.array(
         [
@@ -55,7 +56,7 @@ def test_drifts_and_the_first_sample_past_a_drift_ratio_by_hand():
 )
 def test_malformed_stories_are_refused(lower, upper, heights, message):
     with pytest.raises(cp.InputError, match=message):
-        cp.Stories(lower, upper, heights)
+        Stories(lower, upper, heights)
 
 
 def test_a_structure_without_stories_says_so():
@@ -67,7 +68,7 @@ def test_a_structure_without_stories_says_so():
 
 def test_a_storied_structure_conforms():
     structure = toy_components.StoriedToyStructure()
-    assert structure.stories() == cp.Stories((None, 0), (0, 1), (3.0, 2.5))
+    assert structure.stories() == Stories((None, 0), (0, 1), (3.0, 2.5))
     testing.check_structure(structure)
 
 
@@ -75,14 +76,14 @@ class StoriesPastTheOutputs(toy_components.StoriedToyStructure):
     name = "stories-past-the-outputs"
 
     def stories(self):
-        return cp.Stories.stacked([3.0, 3.0, 3.0])
+        return Stories.stacked([3.0, 3.0, 3.0])
 
 
 class StoriesUndeclared(toy_components.ToyStructure):
     name = "stories-undeclared"
 
     def stories(self):
-        return cp.Stories.stacked([3.0, 3.0])
+        return Stories.stacked([3.0, 3.0])
 
 
 class StoriesAsTuple(toy_components.StoriedToyStructure):
@@ -113,9 +114,9 @@ def test_the_check_catches_broken_stories(structure, message):
 
 
 def test_a_story_without_height_has_its_drift_but_no_ratio():
-    stories = cp.Stories((None, 0), (0, 1), (float("nan"), 3.0))
+    stories = Stories((None, 0), (0, 1), (float("nan"), 3.0))
     assert not stories.has_heights and stories.without_height() == ("story-1",)
-    assert cp.Stories.stacked([3.0, 3.0]).has_heights
+    assert Stories.stacked([3.0, 3.0]).has_heights
     u = np.zeros((1, 3, 2))
     u[0, 1] = [0.5, 0.8]  # story 1 drifts 0.5 m, story 2 0.3 m (a ratio of 0.1)
     assert stories.first_past(u, 0.09).tolist() == [1]  # story 2 only: story 1 has no ratio

@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cphysfno_core import InputError, LinearSystem, StoryPushover
+from cphysfno_core import InputError
+from cphysfno_core.plugin import LinearSystem, StoryPushover
 from cphysfno_core.signals import (
     cyclic_protocol,
     first_mode_pattern,

@@ -16,6 +16,7 @@ from cphysfno_core.app import pipeline, study
 from cphysfno_core.app.cli import main
 from cphysfno_core.app.study_document import StudySummary
 from cphysfno_core.app.study_report import write_study_report
+from cphysfno_core.plugin import Registry
 
 BASE = {
     "structure": {"name": "toy-structure", "cubic": 40.0},
@@ -53,7 +54,7 @@ def _config(**changes):
 @pytest.fixture(scope="module")
 def finished(tmp_path_factory):
     """A study run once for the module, with the toy components registered."""
-    set_registry(cp.Registry(autoload=False, plugins=(toy_components,)))
+    set_registry(Registry(autoload=False, plugins=(toy_components,)))
     out = tmp_path_factory.mktemp("study")
     summary = study.run_study(_config(), out)
     yield out, summary

@@ -7,11 +7,12 @@ import numpy as np
 import pytest
 
 import cphysfno_core as cp
+from cphysfno_core.plugin import TimeGrid
 
 
 def test_the_training_grid_is_kept_and_saved(trained_toy, tmp_path):
     model, gm = trained_toy
-    assert model.grid == cp.TimeGrid(0.02, 80)
+    assert model.grid == TimeGrid(0.02, 80)
     loaded = cp.CompositeModel.load(model.save(tmp_path / "m"))
     assert loaded.grid == model.grid
     np.testing.assert_allclose(loaded.predict(gm[8:])[0], model.predict(gm[8:])[0])
@@ -60,14 +61,14 @@ def test_on_grid_resamples_without_aliasing_then_pads_or_cuts():
     t = np.arange(2001) * dt
     slow, fast = np.sin(2 * np.pi * 1.0 * t), np.sin(2 * np.pi * 40.0 * t)
     motions = cp.GroundMotions(np.stack([slow, slow + fast]), dt)
-    coarse = motions.on_grid(cp.TimeGrid(0.02, 1001))
+    coarse = motions.on_grid(TimeGrid(0.02, 1001))
     t2 = np.arange(1001) * 0.02
     middle = slice(100, 900)  # away from the filter's edge transients
     for row in coarse.acceleration:  # 40 Hz lies above the new 25 Hz Nyquist: removed
         np.testing.assert_allclose(row[middle], np.sin(2 * np.pi * t2[middle]), atol=2e-3)
-    padded = motions.on_grid(cp.TimeGrid(0.01, 2501))
+    padded = motions.on_grid(TimeGrid(0.01, 2501))
     np.testing.assert_array_equal(padded.acceleration[:, :2001], motions.acceleration)
     assert not padded.acceleration[:, 2001:].any()
-    cut = motions.on_grid(cp.TimeGrid(0.01, 500))
+    cut = motions.on_grid(TimeGrid(0.01, 500))
     np.testing.assert_array_equal(cut.acceleration, motions.acceleration[:, :500])
-    assert cut.grid == cp.TimeGrid(0.01, 500)
+    assert cut.grid == TimeGrid(0.01, 500)

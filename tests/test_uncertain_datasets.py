@@ -9,8 +9,9 @@ import pytest
 
 import cphysfno_core as cp
 from cphysfno_core.app.inspection import describe_file
-from cphysfno_core.data import generation
+from cphysfno_core.data import Dataset, generation
 from cphysfno_core.data.simulation import simulate_chunk
+from cphysfno_core.plugin import Structure
 
 MASSES = [4.0e4, 3.0e4, 3.0e4]
 STIFFNESSES = [3e7, 2e7]  # stories 2 and 3; story 1 is drawn in most tests
@@ -54,7 +55,7 @@ executor = "serial"
 """
 
 
-def _generate(path, **fields) -> cp.Dataset:
+def _generate(path, **fields) -> Dataset:
     text = _toml(
         fields.pop("stiffness", RANDOM["stiffness"]), fields.pop("law", RANDOM["yield"]), **fields
     )
@@ -62,7 +63,7 @@ def _generate(path, **fields) -> cp.Dataset:
     return cp.load_dataset(path)
 
 
-def _fixed(stiffness: float, yield_displacement: float) -> cp.Structure:
+def _fixed(stiffness: float, yield_displacement: float) -> Structure:
     return cp.create(
         "structure",
         "shear-building",
@@ -80,7 +81,7 @@ def drawn_path(tmp_path_factory):
 
 
 @pytest.fixture
-def drawn(drawn_path) -> cp.Dataset:
+def drawn(drawn_path) -> Dataset:
     return cp.load_dataset(drawn_path)
 
 

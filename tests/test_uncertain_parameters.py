@@ -9,6 +9,7 @@ import pytest
 from scipy import stats
 
 import cphysfno_core as cp
+from cphysfno_core.config import ExperimentConfig
 from cphysfno_core.config.uncertainty import UncertainParameters
 
 STRUCTURE = """
@@ -32,7 +33,7 @@ name = "fno"
 """
 
 
-def _config(law: str = LAW, extra: str = "") -> cp.ExperimentConfig:
+def _config(law: str = LAW, extra: str = "") -> ExperimentConfig:
     return cp.parse_config(tomllib.loads(STRUCTURE.format(law=law) + REST + extra))
 
 

@@ -15,14 +15,25 @@ import torch
 from pydantic import Field
 
 import cphysfno_core as cp
+from cphysfno_core import plugin
+from cphysfno_core.plugin import (
+    GroundMotionSource,
+    NeuralOperator,
+    PhysicsPreprocessor,
+    Refiner,
+    Registry,
+    Stories,
+    Structure,
+    hookimpl,
+)
 
 
-class ToyStructure(cp.Structure):
+class ToyStructure(Structure):
     """Two independent damped oscillators with a cubic spring, integrated by RK4."""
 
     name = "toy-structure"
 
-    class Params(cp.Params):
+    class Params(plugin.Params):
         frequencies_hz: tuple[float, float] = (1.0, 3.0)
         cubic: float = 0.0
         delay_s: float = 0.0
@@ -71,7 +82,7 @@ class StoriedToyStructure(ToyStructure):
         heights_m: tuple[float, float] = (3.0, 2.5)
 
     def stories(self):
-        return cp.Stories.stacked(self.params.heights_m)
+        return Stories.stacked(self.params.heights_m)
 
 
 class AcceleratingToyStructure(StoriedToyStructure):
@@ -145,13 +156,13 @@ class DyingOnceStructure(ToyStructure):
         return super().simulate(motions, dt=dt)
 
 
-class ToySource(cp.GroundMotionSource):
+class ToySource(GroundMotionSource):
     """Band-limited random accelerations."""
 
     name = "toy-source"
     independent_draws = True
 
-    class Params(cp.Params):
+    class Params(plugin.Params):
         n_steps: int = Field(200, gt=1)
         dt: float = Field(0.02, gt=0)
         scale: float = 1.0
@@ -182,7 +193,7 @@ class ToyRecordSet(ToySource):
         return pool[rng.permutation(self.params.size)[: min(n, self.params.size)]]
 
 
-class ToyPreprocessor(cp.PhysicsPreprocessor):
+class ToyPreprocessor(PhysicsPreprocessor):
     """The linear part of the toy structure (cubic term dropped)."""
 
     name = "toy-linear"
@@ -214,7 +225,7 @@ class FragilePreprocessor(ToyPreprocessor):
 
     name = "toy-fragile-linear"
 
-    class Params(cp.Params):
+    class Params(plugin.Params):
         limit: float = 1e9
 
     calls = 0
@@ -226,7 +237,7 @@ class FragilePreprocessor(ToyPreprocessor):
         return z
 
 
-class NeedsLinearSystem(cp.PhysicsPreprocessor):
+class NeedsLinearSystem(PhysicsPreprocessor):
     """A preprocessor that needs a capability the toy structure lacks."""
 
     name = "needs-linear-system"
@@ -240,12 +251,12 @@ class NeedsLinearSystem(cp.PhysicsPreprocessor):
         raise AssertionError("never reached")
 
 
-class ToyOperator(cp.NeuralOperator):
+class ToyOperator(NeuralOperator):
     """A pointwise two-layer network (no coupling in time)."""
 
     name = "toy-operator"
 
-    class Params(cp.Params):
+    class Params(plugin.Params):
         width: int = Field(8, gt=0)
 
     def __init__(self, in_channels, out_channels, **hyper):
@@ -266,7 +277,7 @@ class OtherToyOperator(ToyOperator):
     name = "other-toy-operator"
 
 
-class ToyRefiner(cp.Refiner):
+class ToyRefiner(Refiner):
     """Mean = operator output + a constant offset per DOF; std = residual std."""
 
     name = "toy-refiner"
@@ -300,7 +311,7 @@ class CalibratedToyRefiner(ToyRefiner):
         return super().fit(z, u_hat, u, rng)
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_structures():
     return [
         ToyStructure,
@@ -312,33 +323,33 @@ def cphysfno_structures():
     ]
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_ground_motions():
     return [ToySource, ToyRecordSet]
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_preprocessors():
     return [ToyPreprocessor, FragilePreprocessor, NeedsLinearSystem]
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_operators():
     return [ToyOperator, OtherToyOperator]
 
 
-@cp.hookimpl
+@hookimpl
 def cphysfno_refiners():
     return [ToyRefiner, CalibratedToyRefiner]
 
 
 @contextlib.contextmanager
-def registered(*plugins: ModuleType) -> Iterator[cp.Registry]:
+def registered(*plugins: ModuleType) -> Iterator[Registry]:
     """The global registry, while the block runs, of the toy components and ``plugins``
     (modules with hook implementations) alone, no installed plugin loaded."""
     from cphysfno_core.api.registry import set_registry
 
-    registry = cp.Registry(autoload=False, plugins=(sys.modules[__name__], *plugins))
+    registry = Registry(autoload=False, plugins=(sys.modules[__name__], *plugins))
     set_registry(registry)
     try:
         yield registry

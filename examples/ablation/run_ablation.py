@@ -36,14 +36,14 @@ from cphysfno_core import (
     CompositeModel,
     compose,
     generate_dataset,
-    get_registry,
     load_config,
     load_dataset,
-    metrics,
     parse_config,
 )
 from cphysfno_core.app.pipeline import interval_coverage_scores
 from cphysfno_core.model.composite import Prediction
+from cphysfno_core.plugin import get_registry
+from cphysfno_core.reporting import metrics
 
 TRAINING_FIELDS = ("epochs", "learning_rate", "decay_step", "decay_factor", "seed")
 """Training settings recorded with each row."""

@@ -1,6 +1,19 @@
 """cphysfno: composite physics-neural operators for seismic response prediction.
 
-The package is layered; each subpackage imports only those below it:
+The names below are the users' API: compose a model from registered components, generate
+or load a dataset, train, predict and read the errors::
+
+    import cphysfno_core as cp
+
+    model = cp.compose(structure="bouc-wen-shear-building", operator="fno")
+
+Two modules complete it: :mod:`cphysfno_core.edp` (engineering demand parameters of
+simulated or predicted responses) and :mod:`cphysfno_core.plugin`, the API for plugin
+authors (the component base classes, ``Params``, ``hookimpl``, the story-law helpers and
+the conformance checks).
+
+The package is layered; each subpackage imports only those below it, and all of them are
+internal:
 
 - :mod:`~cphysfno_core.app`: the pipeline of a run, studies, the command line;
 - :mod:`~cphysfno_core.reporting`: metrics, figures, ``report.md``;
@@ -10,42 +23,13 @@ The package is layered; each subpackage imports only those below it:
   configuration; the conformance checks for plugin authors;
 - :mod:`~cphysfno_core.api`: the component interfaces, hooks and registry;
 - :mod:`~cphysfno_core.signals`: time histories, errors, linear systems, intensity measures.
-
-The names below are the public API; plugins import only these (or
-:mod:`cphysfno_core.signals` and :mod:`cphysfno_core.testing`).
 """
 
-from . import edp
-from .api import (
-    GroundMotionSource,
-    LawFunctions,
-    NeuralOperator,
-    Params,
-    PhysicsPreprocessor,
-    Refiner,
-    Registry,
-    RestoringForce,
-    StoryLaw,
-    Structure,
-    create,
-    get_registry,
-    hookimpl,
-    per_story,
-    validate_params,
-)
-from .config import (
-    ComponentSpec,
-    ExperimentConfig,
-    FormulationConfig,
-    TrainingConfig,
-    load_config,
-    native_bfloat16,
-    parse_config,
-)
-from .data import Dataset, generate_dataset, load_dataset
-from .model import CompositeModel, Prediction, compose
-from .reporting import metrics
-from .reporting.figures import motion_spectra
+from . import edp as edp
+from .api import create
+from .config import load_config, parse_config
+from .data import generate_dataset, load_dataset
+from .model import CompositeModel, compose
 from .signals import (
     CapabilityError,
     ConfigError,
@@ -55,78 +39,34 @@ from .signals import (
     ExtrapolationWarning,
     GroundMotions,
     InputError,
-    LinearSystem,
     MainGuardError,
     NotFittedError,
     PluginError,
-    Rayleigh,
     RegistryError,
     Responses,
-    Stories,
-    StoryPushover,
-    TimeGrid,
-    check_finite,
-    check_main_guard,
-    check_time_step,
-    intensity,
-    resampling,
 )
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "ComponentSpec",
     "CompositeModel",
-    "Dataset",
-    "ExperimentConfig",
-    "Prediction",
-    "FormulationConfig",
-    "TrainingConfig",
+    "GroundMotions",
+    "Responses",
     "compose",
-    "edp",
+    "create",
     "generate_dataset",
-    "intensity",
     "load_config",
     "load_dataset",
-    "metrics",
-    "motion_spectra",
-    "native_bfloat16",
     "parse_config",
-    "resampling",
     "CapabilityError",
     "ConfigError",
     "CphysfnoError",
     "CphysfnoWarning",
-    "ExtrapolationWarning",
     "DatasetError",
-    "GroundMotionSource",
-    "GroundMotions",
+    "ExtrapolationWarning",
     "InputError",
-    "LawFunctions",
-    "LinearSystem",
     "MainGuardError",
-    "NeuralOperator",
     "NotFittedError",
     "PluginError",
-    "Params",
-    "PhysicsPreprocessor",
-    "Rayleigh",
-    "Refiner",
-    "Registry",
     "RegistryError",
-    "Responses",
-    "RestoringForce",
-    "Stories",
-    "StoryLaw",
-    "StoryPushover",
-    "Structure",
-    "TimeGrid",
-    "check_finite",
-    "check_main_guard",
-    "check_time_step",
-    "create",
-    "get_registry",
-    "hookimpl",
-    "per_story",
-    "validate_params",
 ]

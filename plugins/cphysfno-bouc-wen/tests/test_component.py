@@ -6,6 +6,7 @@ import cphysfno_core
 import numpy as np
 import pytest
 from cphysfno_core import ConfigError, CphysfnoError, GroundMotions, InputError
+from cphysfno_core.plugin import get_registry
 
 from cphysfno_bouc_wen import BoucWenShearBuilding, explicit
 
@@ -14,7 +15,7 @@ def test_registry_builds_it_by_name() -> None:
     building = cphysfno_core.create("structure", "bouc-wen-shear-building", damping_ratio=0.02)
     assert isinstance(building, BoucWenShearBuilding)
     assert building.params.damping_ratio == 0.02
-    entry = cphysfno_core.get_registry().entry("structure", "bouc-wen-shear-building")
+    entry = get_registry().entry("structure", "bouc-wen-shear-building")
     assert entry.distribution.startswith("cphysfno-bouc-wen")
     assert building.capabilities == {
         "linear_system",

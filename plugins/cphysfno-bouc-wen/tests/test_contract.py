@@ -2,7 +2,8 @@
 
 import numpy as np
 import pytest
-from cphysfno_core import LinearSystem, Responses
+from cphysfno_core import Responses
+from cphysfno_core.plugin import LinearSystem
 from cphysfno_core.testing import check_structure
 
 from cphysfno_bouc_wen import BoucWenShearBuilding

@@ -108,7 +108,7 @@ def test_a_given_pattern_is_kept_scaled_to_one_and_a_bad_one_refused():
 
 
 def test_json_round_trip_keeps_the_curves():
-    from cphysfno_core import StoryPushover
+    from cphysfno_core.plugin import StoryPushover
 
     curves = building(BILINEAR).story_pushover(cyclic_protocol([0.004], points_per_cycle=8))
     again = StoryPushover.from_dict(curves.to_dict())

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cphysfno_core import GroundMotions, RestoringForce
+from cphysfno_core import GroundMotions
+from cphysfno_core.plugin import RestoringForce
 
 from cphysfno_bouc_wen import BoucWenShearBuilding
 

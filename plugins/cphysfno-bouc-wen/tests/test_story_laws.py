@@ -6,7 +6,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 import pytest
-from cphysfno_core import ConfigError, LawFunctions, Params, StoryLaw, create
+from cphysfno_core import ConfigError, create
+from cphysfno_core.plugin import LawFunctions, Params, StoryLaw
 from cphysfno_core.testing import check_story_law
 from cphysfno_core.testing.story_law import cyclic_drift, drive
 from cphysfno_opensees.uniaxial import uniaxial_stress

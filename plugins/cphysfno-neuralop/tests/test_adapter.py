@@ -9,8 +9,9 @@ import cphysfno_core as cp
 import numpy as np
 import pytest
 import torch
-from cphysfno_core import ConfigError, InputError, PluginError, Registry
+from cphysfno_core import ConfigError, InputError, PluginError
 from cphysfno_core.model.training import relative_l2_loss
+from cphysfno_core.plugin import Registry
 from cphysfno_fno import FNO1d
 
 from cphysfno_neuralop import NeuralopFNO

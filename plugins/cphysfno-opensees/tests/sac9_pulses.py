@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 DT = 0.01
 """Time step of :func:`pulse`, s."""

@@ -12,6 +12,7 @@ from cphysfno_opensees.bridge.structure import AuburnRavineBridge
 
 import cphysfno_core as cp
 from cphysfno_core import GroundMotions
+from cphysfno_core.plugin import PhysicsPreprocessor
 
 
 def relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
@@ -33,7 +34,7 @@ def record() -> GroundMotions:
 
 
 @pytest.fixture(scope="module")
-def els(bridge) -> cp.PhysicsPreprocessor:
+def els(bridge) -> PhysicsPreprocessor:
     return cp.create("preprocessor", "els").fit(bridge)
 
 

@@ -10,7 +10,8 @@ from cphysfno_opensees.bridge.model import build
 from cphysfno_opensees.bridge.structure import AuburnRavineBridge
 from cphysfno_opensees.loader import import_opensees
 
-from cphysfno_core import ConfigError, GroundMotions, LinearSystem
+from cphysfno_core import ConfigError, GroundMotions
+from cphysfno_core.plugin import LinearSystem
 
 
 @pytest.fixture(scope="module")

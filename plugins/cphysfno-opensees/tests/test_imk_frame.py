@@ -25,6 +25,7 @@ import script_models as sm
 import cphysfno_core as cp
 from cphysfno_core import GroundMotions
 from cphysfno_core.app.cli import main
+from cphysfno_core.plugin import Structure
 from cphysfno_core.testing.physics import smooth_random_motions
 
 SCRIPT = sm.EXAMPLES / "models" / "imk_frame_kip_inch.py"
@@ -34,7 +35,7 @@ PUBLISHED_T1 = 0.83  # s, at the gravity state
 SPRINGS = range(3000, 5000)  # element tags of the frame's Bilin springs (3xya, 4xya)
 
 
-def _model(script: Path, **params) -> cp.Structure:
+def _model(script: Path, **params) -> Structure:
     return cp.create(
         "structure", "opensees-model", script=str(script), outputs=FLOORS, gravity="gravity",
         length_unit="in", damping_ratio=DAMPING, workers=1, **params,

@@ -14,6 +14,7 @@ import pytest
 import script_models as sm
 
 import cphysfno_core as cp
+from cphysfno_core.plugin import Structure
 from cphysfno_core.signals import monotonic_protocol
 from cphysfno_core.testing import check_structure
 
@@ -26,7 +27,7 @@ MODELS = {
 }
 
 
-def _structure(name: str) -> cp.Structure:
+def _structure(name: str) -> Structure:
     config = cp.load_config(sm.EXAMPLES / f"{name}.toml").structure
     return cp.create("structure", config.name, **{**config.params, "workers": 1})
 
@@ -36,7 +37,7 @@ def _config_params(name: str) -> dict:
 
 
 @pytest.fixture(scope="module", params=list(MODELS))
-def model(request) -> tuple[str, cp.Structure]:
+def model(request) -> tuple[str, Structure]:
     return request.param, _structure(request.param)
 
 

@@ -28,7 +28,7 @@ from cphysfno_opensees.sac9.structure import Sac9Frame
 from sac9_pulses import DAMPING, DT, pulse, relative
 
 import cphysfno_core as cp
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 MODEL = FrameConfig()
 PLAIN = SolverConfig(elastic_phases=False)

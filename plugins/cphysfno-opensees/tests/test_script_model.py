@@ -10,6 +10,7 @@ import script_models as sm
 
 import cphysfno_core as cp
 from cphysfno_core import GroundMotions
+from cphysfno_core.plugin import LinearSystem, Stories
 from cphysfno_core.testing import check_structure
 from cphysfno_core.testing.physics import linear_response
 
@@ -165,7 +166,7 @@ def test_massless_dofs_are_condensed_and_the_periods_are_opensees_eigen(folder, 
     small = GroundMotions(0.01 * strong.acceleration, strong.dt)
     fine = model.simulate(sm.finer(small, 16)).displacement[:, ::16]
     ours = sm.relative_l2(linear_response(system, small), fine)
-    other = cp.LinearSystem(system.mass, naive, system.stiffness, system.influence,
+    other = LinearSystem(system.mass, naive, system.stiffness, system.influence,
                             system.output_map)  # fmt: skip
     theirs = sm.relative_l2(linear_response(other, small), fine)
     assert np.all(ours < 0.2 * theirs), (ours, theirs)
@@ -244,7 +245,7 @@ def test_a_gravity_state_analysed_and_held_by_the_script_is_not_analysed_again(f
 def test_the_stories_default_to_the_floors_over_the_ground(frame):
     stories = frame.stories()
     assert "stories" in frame.capabilities
-    assert stories == cp.Stories((None, 0), (0, 1), (3.0, 3.0))
+    assert stories == Stories((None, 0), (0, 1), (3.0, 3.0))
 
 
 def test_stories_from_heights_in_the_model_unit_or_from_node_pairs(frame_script):
@@ -256,8 +257,8 @@ def test_stories_from_heights_in_the_model_unit_or_from_node_pairs(frame_script)
     in_feet = stories(story_heights=[10.0, 12.0], length_unit="ft")
     assert in_feet.lower == (None, 0) and in_feet.upper == (0, 1)
     np.testing.assert_allclose(in_feet.heights_m, [3.048, 3.6576])
-    assert stories(drift_pairs=[[1, 11], [11, 21]]) == cp.Stories((None, 0), (0, 1), (3.0, 3.0))
-    assert stories(drift_pairs=[[2, 21]]) == cp.Stories((None,), (1,), (6.0,))
+    assert stories(drift_pairs=[[1, 11], [11, 21]]) == Stories((None, 0), (0, 1), (3.0, 3.0))
+    assert stories(drift_pairs=[[2, 21]]) == Stories((None,), (1,), (6.0,))
     with pytest.raises(cp.ConfigError, match="node 12 is neither an output"):
         stories(drift_pairs=[[12, 21]])
 
@@ -267,7 +268,7 @@ def test_outputs_at_one_elevation_are_each_a_story_over_the_ground(folder):
     model = cp.create(
         "structure", "opensees-model", script=str(script), outputs=[[21, 1], [22, 1], [11, 1]]
     )
-    assert model.stories() == cp.Stories((None,) * 3, (0, 1, 2), (6.0, 6.0, 3.0))
+    assert model.stories() == Stories((None,) * 3, (0, 1, 2), (6.0, 6.0, 3.0))
 
 
 SELF_ANALYSED = '''

@@ -10,13 +10,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.signal import lsim
 
-from cphysfno_core import (
-    GroundMotions,
-    LinearSystem,
-    Responses,
-    Structure,
-    create,
-)
+from cphysfno_core import GroundMotions, Responses, create
+from cphysfno_core.plugin import LinearSystem, Structure
 
 RTOL = 1e-10
 

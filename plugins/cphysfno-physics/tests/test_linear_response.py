@@ -8,7 +8,8 @@ from cphysfno_physics import linear_response as linear_response_module
 from cphysfno_physics.linear_response import linear_response
 from scipy.integrate import solve_ivp
 
-from cphysfno_core import GroundMotions, LinearSystem
+from cphysfno_core import GroundMotions
+from cphysfno_core.plugin import LinearSystem
 
 
 def sdof(mass: float, omega: float, zeta: float) -> LinearSystem:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cphysfno_core import ConfigError, LinearSystem, Structure, create
+from cphysfno_core import ConfigError, create
+from cphysfno_core.plugin import LinearSystem, Structure
 
 
 def test_all_modes_reproduce_the_full_model(toy, toy_motions, toy_truth, relative_l2):

@@ -6,14 +6,8 @@ import numpy as np
 import pytest
 from cphysfno_physics import EquivalentLinear, ModalReduction, RelaxedSolver, Stick
 
-from cphysfno_core import (
-    CapabilityError,
-    ConfigError,
-    NotFittedError,
-    PhysicsPreprocessor,
-    Registry,
-    create,
-)
+from cphysfno_core import CapabilityError, ConfigError, NotFittedError, create
+from cphysfno_core.plugin import PhysicsPreprocessor, Registry
 
 CLASSES = {"els": EquivalentLinear, "modal": ModalReduction, "relaxed": RelaxedSolver}
 

@@ -10,14 +10,8 @@ import pytest
 from cphysfno_bouc_wen.shear_building import ShearBuilding
 from cphysfno_physics import Stick, StickCalibration
 
-from cphysfno_core import (
-    CapabilityError,
-    ConfigError,
-    CphysfnoWarning,
-    GroundMotions,
-    Stories,
-    create,
-)
+from cphysfno_core import CapabilityError, ConfigError, CphysfnoWarning, GroundMotions, create
+from cphysfno_core.plugin import Stories
 from cphysfno_core.testing import check_preprocessor
 
 FAST = {"cycle_amplitudes": (0.0025, 0.005, 0.01), "points_per_cycle": 40}

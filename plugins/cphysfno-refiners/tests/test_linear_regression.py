@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from cphysfno_refiners import LinearRegressionRefiner, arrays
 
-from cphysfno_core import ConfigError, InputError, NotFittedError, Registry
+from cphysfno_core import ConfigError, InputError, NotFittedError
+from cphysfno_core.plugin import Registry
 
 TRUE_WEIGHTS = np.array([[0.002, 0.3, 0.8], [-0.001, 0.1, 0.95], [0.0, -0.2, 1.1]])
 TRUE_SIGMA = np.array([0.004, 0.001, 0.01])

@@ -207,7 +207,7 @@ def _malformed(kind: str, cls: Any) -> str:
     if not isinstance(getattr(cls, "name", None), str) or not cls.name:
         return f"{kind} class {cls.__name__} has no registry name (class attribute `name`)"
     if not (isinstance(cls.Params, type) and issubclass(cls.Params, Params)):
-        return f"{kind} '{cls.name}': Params must subclass cphysfno_core.Params"
+        return f"{kind} '{cls.name}': Params must subclass cphysfno_core.plugin.Params"
     return ""
 
 

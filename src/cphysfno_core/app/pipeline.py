@@ -184,7 +184,7 @@ def evaluate(
     """Stage 3: predict the test split with every trained model; write ``metrics.json``.
 
     Refined models also report the test coverage of their 68 % and 90 % intervals and its
-    standard error (:func:`~cphysfno_core.metrics.coverage_standard_error` over the test
+    standard error (:func:`~cphysfno_core.reporting.metrics.coverage_standard_error` over the test
     records and the records the refiner was calibrated on).
 
     ``response_rms`` is the root mean square of the simulated test response per output

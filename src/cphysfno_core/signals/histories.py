@@ -115,7 +115,7 @@ class GroundMotions:
 
     def on_grid(self, grid: TimeGrid) -> GroundMotions:
         """The same motions on ``grid``: resampled with anti-aliasing to its step (see
-        :func:`cphysfno_core.resampling.resample`), then cut or zero-padded at the end to
+        :func:`cphysfno_core.signals.resampling.resample`), then cut or zero-padded at the end to
         its number of samples.
 
         Raises:

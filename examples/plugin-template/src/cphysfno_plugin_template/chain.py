@@ -46,7 +46,7 @@ def classical_damping(mass: np.ndarray, stiffness: np.ndarray, ratio: float) -> 
 class CubicSprings:
     """The story springs' forces on the floors, ``A^T r(A u)``; they have no internal state.
 
-    Satisfies :class:`cphysfno_core.RestoringForce`.
+    Satisfies :class:`cphysfno_core.plugin.RestoringForce`.
 
     Args:
         stiffness: ``[d]`` small-amplitude story stiffnesses k_i in N/m.

@@ -7,16 +7,8 @@ from functools import cached_property
 from typing import Annotated
 
 import numpy as np
-from cphysfno_core import (
-    ConfigError,
-    CphysfnoError,
-    GroundMotions,
-    InputError,
-    LinearSystem,
-    Params,
-    Responses,
-    Structure,
-)
+from cphysfno_core import ConfigError, CphysfnoError, GroundMotions, InputError, Responses
+from cphysfno_core.plugin import LinearSystem, Params, Structure
 from pydantic import Field, ValidationInfo, field_validator
 
 from .chain import CubicSprings, classical_damping, elastic_modes, elastic_stiffness

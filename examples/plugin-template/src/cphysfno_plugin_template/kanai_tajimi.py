@@ -17,7 +17,8 @@ import math
 
 import numpy as np
 import scipy.linalg
-from cphysfno_core import GroundMotions, GroundMotionSource, InputError, Params
+from cphysfno_core import GroundMotions, InputError
+from cphysfno_core.plugin import GroundMotionSource, Params
 from pydantic import Field, PositiveFloat, ValidationInfo, field_validator
 
 

@@ -1,6 +1,6 @@
 """Classical fourth-order Runge-Kutta integration of a shear building with any story law.
 
-The law's compiled functions (:class:`cphysfno_core.LawFunctions`) are inlined into a
+The law's compiled functions (:class:`cphysfno_core.plugin.LawFunctions`) are inlined into a
 kernel made for them (:func:`rk4_kernel`, one per law, compiled on first use in a
 process). Each record is integrated on its own in float64, records spread over the cores
 in threads; after each Runge-Kutta step the law's ``settle`` corrects the state of every
@@ -13,7 +13,7 @@ from functools import cache
 
 import numba
 import numpy as np
-from cphysfno_core import LawFunctions
+from cphysfno_core.plugin import LawFunctions
 from cphysfno_core.signals import run_in_slices
 
 from .chain import StoryChain

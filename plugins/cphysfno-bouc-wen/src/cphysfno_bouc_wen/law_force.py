@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from cphysfno_core import StoryLaw
+from cphysfno_core.plugin import StoryLaw
 
 from .generic import law_evaluator
 from .model import compatibility_matrix
@@ -12,7 +12,7 @@ from .model import compatibility_matrix
 class StoryLawRestoringForce:
     """Restoring force ``f(u, s) = A_f^T F(A_f u, s)`` with the story law's state ``s``.
 
-    Satisfies :class:`cphysfno_core.RestoringForce`: the building obeys
+    Satisfies :class:`cphysfno_core.plugin.RestoringForce`: the building obeys
     ``M u'' + C u' + f(u, s) = -M 1 a_g`` and ``s' = rate(A_f u, A_f u', s)``. The state of
     a batch is ``[n, d * n_states]``, story after story.
 

@@ -10,7 +10,7 @@ from .model import ShearBuildingModel, hysteretic_rate, story_shear
 class BoucWenRestoringForce:
     """Restoring force ``f(u, h) = A_f^T r(A_f u, h)`` with Bouc-Wen state ``h``.
 
-    Satisfies :class:`cphysfno_core.RestoringForce`: the building obeys
+    Satisfies :class:`cphysfno_core.plugin.RestoringForce`: the building obeys
     ``M u'' + C u' + f(u, h) = -M 1 a_g`` and ``h' = g(A_f u', h)``.
 
     Args:

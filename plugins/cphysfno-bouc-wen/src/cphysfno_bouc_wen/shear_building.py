@@ -7,15 +7,11 @@ from functools import cached_property
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from cphysfno_core import (
-    ConfigError,
-    CphysfnoError,
-    GroundMotions,
-    InputError,
+from cphysfno_core import ConfigError, CphysfnoError, GroundMotions, InputError, Responses
+from cphysfno_core.plugin import (
     LinearSystem,
     Params,
     Rayleigh,
-    Responses,
     Stories,
     StoryLaw,
     StoryPushover,

@@ -7,7 +7,7 @@ from functools import cached_property
 from typing import Annotated, Literal
 
 import numpy as np
-from cphysfno_core import Params
+from cphysfno_core.plugin import Params
 from pydantic import Field, ValidationInfo, field_validator
 
 from .laws import BoucWenLaw

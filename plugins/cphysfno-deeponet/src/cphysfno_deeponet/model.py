@@ -6,7 +6,8 @@ from __future__ import annotations
 from typing import Any, Literal
 
 import torch
-from cphysfno_core import InputError, NeuralOperator, Params
+from cphysfno_core import InputError
+from cphysfno_core.plugin import NeuralOperator, Params
 from pydantic import Field
 
 from .encoding import fourier_features, relative_time, resample_to_sensors

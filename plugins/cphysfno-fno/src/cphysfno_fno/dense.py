@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import torch
 
-from cphysfno_core import native_bfloat16
+from cphysfno_core.plugin import native_bfloat16
 
 _ONEDNN = torch.backends.mkldnn.is_available() and hasattr(torch.ops.mkldnn, "_linear_pointwise")
 _ONEDNN_DTYPES = (

@@ -7,7 +7,8 @@ from typing import Any, Literal
 import torch
 from pydantic import Field
 
-from cphysfno_core import InputError, NeuralOperator, Params
+from cphysfno_core import InputError
+from cphysfno_core.plugin import NeuralOperator, Params
 
 from .dense import pointwise_linear
 from .fused import fourier_layer

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import cphysfno_core
+from cphysfno_core.plugin import hookimpl
 
 from .model import FNO1d
 
 
-@cphysfno_core.hookimpl
+@hookimpl
 def cphysfno_operators() -> list[type]:
     """The operators of this distribution."""
     return [FNO1d]

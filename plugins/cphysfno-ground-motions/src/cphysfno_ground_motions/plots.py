@@ -29,7 +29,7 @@ def plot_spectra(
 ) -> Path:
     """Every record's pseudo-spectral acceleration (in g, log-log) with the target's median
     and 2.5-97.5% band (or, without a target, the records' own); written as a PNG to
-    ``path`` by :func:`cphysfno_core.motion_spectra`.
+    ``path`` by :func:`cphysfno_core.plugin.motion_spectra`.
 
     Args:
         motions: the records.
@@ -43,7 +43,7 @@ def plot_spectra(
     Returns:
         The path written.
     """
-    from cphysfno_core import motion_spectra
+    from cphysfno_core.plugin import motion_spectra
 
     band = None if target is None else target.band()
     return motion_spectra(

@@ -20,7 +20,8 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from cphysfno_core import DatasetError, GroundMotions, GroundMotionSource, InputError, Params
+from cphysfno_core import DatasetError, GroundMotions, InputError
+from cphysfno_core.plugin import GroundMotionSource, Params
 from cphysfno_core.signals import read_at2
 from pydantic import Field, NonNegativeFloat, PositiveFloat, ValidationInfo, field_validator
 

@@ -7,7 +7,8 @@ from __future__ import annotations
 from typing import Annotated
 
 import numpy as np
-from cphysfno_core import GroundMotions, Params
+from cphysfno_core import GroundMotions
+from cphysfno_core.plugin import Params
 from cphysfno_core.signals.intensity import response_spectrum
 from pydantic import Field, field_validator
 

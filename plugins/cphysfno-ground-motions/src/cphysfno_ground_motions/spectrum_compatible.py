@@ -29,7 +29,8 @@ from functools import cached_property
 from typing import Literal
 
 import numpy as np
-from cphysfno_core import GroundMotions, GroundMotionSource, InputError, Params
+from cphysfno_core import GroundMotions, InputError
+from cphysfno_core.plugin import GroundMotionSource, Params
 from cphysfno_core.signals.intensity import SpectrumBand
 from pydantic import Field, PositiveFloat, ValidationInfo, field_validator
 

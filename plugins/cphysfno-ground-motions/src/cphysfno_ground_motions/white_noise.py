@@ -11,7 +11,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from cphysfno_core import GroundMotions, GroundMotionSource, InputError, Params
+from cphysfno_core import GroundMotions, InputError
+from cphysfno_core.plugin import GroundMotionSource, Params
 from pydantic import Field, PositiveFloat, ValidationInfo, field_validator
 
 

@@ -6,7 +6,8 @@ import warnings
 from typing import Any, Literal
 
 import torch
-from cphysfno_core import InputError, NeuralOperator, Params, PluginError
+from cphysfno_core import InputError, PluginError
+from cphysfno_core.plugin import NeuralOperator, Params
 from pydantic import Field
 
 ACTIVATIONS = {"gelu": torch.nn.functional.gelu, "relu": torch.nn.functional.relu}

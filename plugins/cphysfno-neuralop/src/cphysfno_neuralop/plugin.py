@@ -6,12 +6,12 @@ operator is built.
 
 from __future__ import annotations
 
-import cphysfno_core
+from cphysfno_core.plugin import hookimpl
 
 from .adapter import NeuralopFNO
 
 
-@cphysfno_core.hookimpl
+@hookimpl
 def cphysfno_operators() -> list[type]:
     """The operators of this distribution."""
     return [NeuralopFNO]

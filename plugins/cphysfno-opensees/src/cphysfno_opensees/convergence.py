@@ -24,7 +24,7 @@ from typing import Any
 
 from pydantic import Field, field_validator
 
-from cphysfno_core import Params
+from cphysfno_core.plugin import Params
 
 ALGORITHMS = frozenset(
     {

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import cphysfno_core
+from cphysfno_core.plugin import hookimpl
 
 from .bridge.structure import AuburnRavineBridge
 from .sac9.structure import Sac9Frame
 from .script.structure import OpenSeesModel
 
 
-@cphysfno_core.hookimpl
+@hookimpl
 def cphysfno_structures() -> list[type]:
     """The OpenSees structures."""
     return [AuburnRavineBridge, Sac9Frame, OpenSeesModel]

@@ -21,7 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from cphysfno_core import CphysfnoError, InputError, LinearSystem, Rayleigh, Stories, StoryPushover
+from cphysfno_core import CphysfnoError, InputError
+from cphysfno_core.plugin import LinearSystem, Rayleigh, Stories, StoryPushover
 from cphysfno_core.signals import first_mode_pattern, floor_masses, lateral_pattern
 
 ELASTIC_TOLERANCE = 1e-3

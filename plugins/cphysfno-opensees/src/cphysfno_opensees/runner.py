@@ -33,7 +33,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from cphysfno_core import CphysfnoError, InputError, PluginError, check_main_guard
+from cphysfno_core import CphysfnoError, InputError, PluginError
+from cphysfno_core.plugin import check_main_guard
 
 from .messages import recording
 from .transient import AnalysisFailed, counting

@@ -12,16 +12,8 @@ import numpy as np
 import scipy.linalg
 from pydantic import Field
 
-from cphysfno_core import (
-    ConfigError,
-    GroundMotions,
-    InputError,
-    Params,
-    Responses,
-    Structure,
-    check_time_step,
-    edp,
-)
+from cphysfno_core import ConfigError, GroundMotions, InputError, Responses, edp
+from cphysfno_core.plugin import Params, Structure, check_time_step
 
 from .convergence import ConvergenceParams
 from .runner import run_records

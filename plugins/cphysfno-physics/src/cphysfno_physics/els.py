@@ -9,15 +9,8 @@ import numpy as np
 import scipy.linalg
 from pydantic import Field
 
-import cphysfno_core
-from cphysfno_core import (
-    ConfigError,
-    GroundMotions,
-    LinearSystem,
-    PhysicsPreprocessor,
-    Structure,
-    edp,
-)
+from cphysfno_core import ConfigError, GroundMotions, edp, plugin
+from cphysfno_core.plugin import LinearSystem, PhysicsPreprocessor, Structure
 from cphysfno_core.signals import monotonic_protocol
 
 from .fitted import check_fitted
@@ -59,7 +52,7 @@ class EquivalentLinear(PhysicsPreprocessor):
     name = "els"
     requires = frozenset({"equivalent_linear_system"})
 
-    class Params(cphysfno_core.Params):
+    class Params(plugin.Params):
         stiffness_scale: float = Field(
             1.0, gt=0.0, description="factor s on the elastic stiffness: K_eq = s K"
         )

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from cphysfno_core import NotFittedError, PhysicsPreprocessor
+from cphysfno_core import NotFittedError
+from cphysfno_core.plugin import PhysicsPreprocessor
 
 
 def check_fitted(preprocessor: PhysicsPreprocessor, attribute: str) -> None:

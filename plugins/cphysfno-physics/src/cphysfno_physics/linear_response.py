@@ -22,7 +22,7 @@ import numba
 import numpy as np
 from scipy.linalg import expm
 
-from cphysfno_core import LinearSystem
+from cphysfno_core.plugin import LinearSystem
 from cphysfno_core.signals import run_in_slices
 
 CONDITION_LIMIT = 1e6

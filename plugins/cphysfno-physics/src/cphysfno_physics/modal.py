@@ -8,8 +8,8 @@ import numpy as np
 from pydantic import Field
 from scipy.linalg import eigh
 
-import cphysfno_core
-from cphysfno_core import ConfigError, GroundMotions, LinearSystem, PhysicsPreprocessor, Structure
+from cphysfno_core import ConfigError, GroundMotions, plugin
+from cphysfno_core.plugin import LinearSystem, PhysicsPreprocessor, Structure
 
 from .fitted import check_fitted
 from .linear_response import linear_response
@@ -56,7 +56,7 @@ class ModalReduction(PhysicsPreprocessor):
     name = "modal"
     requires = frozenset({"linear_system"})
 
-    class Params(cphysfno_core.Params):
+    class Params(plugin.Params):
         modes: int = Field(2, ge=1, description="number r of retained modes, 1 <= r <= n_dof")
         substeps: int | None = Field(
             None,

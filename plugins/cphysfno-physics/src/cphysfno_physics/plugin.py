@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import cphysfno_core
+from cphysfno_core.plugin import hookimpl
 
 from .els import EquivalentLinear, ExactEquivalentLinear, SecantEquivalentLinear
 from .modal import ModalReduction
@@ -10,7 +10,7 @@ from .relaxed import RelaxedSolver
 from .stick import Stick
 
 
-@cphysfno_core.hookimpl
+@hookimpl
 def cphysfno_preprocessors() -> list[type]:
     """The physics preprocessors ``els``, ``els-exact``, ``els-secant``, ``modal``,
     ``relaxed`` and ``stick``."""

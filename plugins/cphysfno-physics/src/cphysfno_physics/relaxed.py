@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-import cphysfno_core
-from cphysfno_core import GroundMotions, PhysicsPreprocessor, Structure
+from cphysfno_core import GroundMotions, plugin
+from cphysfno_core.plugin import PhysicsPreprocessor, Structure
 from cphysfno_core.signals.resampling import resample
 
 from .fitted import check_fitted
@@ -30,7 +30,7 @@ class RelaxedSolver(PhysicsPreprocessor):
     name = "relaxed"
     requires = frozenset({"coarse_simulation"})
 
-    class Params(cphysfno_core.Params):
+    class Params(plugin.Params):
         factor: int = Field(30, ge=1, description="coarsening k of the time step: dt' = k dt")
         anti_alias: bool = Field(
             True,

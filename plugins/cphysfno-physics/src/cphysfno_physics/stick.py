@@ -9,16 +9,8 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-import cphysfno_core
-from cphysfno_core import (
-    ConfigError,
-    GroundMotions,
-    PhysicsPreprocessor,
-    Stories,
-    Structure,
-    create,
-    edp,
-)
+from cphysfno_core import ConfigError, GroundMotions, create, edp, plugin
+from cphysfno_core.plugin import PhysicsPreprocessor, Stories, Structure
 from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 
 from .fitted import check_fitted
@@ -57,7 +49,7 @@ class Stick(PhysicsPreprocessor):
     name = "stick"
     requires = frozenset({"pushover", "stories", "equivalent_linear_system"})
 
-    class Params(cphysfno_core.Params):
+    class Params(plugin.Params):
         target_drift_ratio: DriftRatio = Field(
             0.03, description="roof drift ratio of the monotonic pushover"
         )

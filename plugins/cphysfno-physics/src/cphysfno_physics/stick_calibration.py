@@ -20,16 +20,8 @@ import scipy.linalg
 import scipy.optimize
 import scipy.sparse
 
-from cphysfno_core import (
-    ConfigError,
-    CphysfnoError,
-    CphysfnoWarning,
-    LinearSystem,
-    Rayleigh,
-    StoryPushover,
-    Structure,
-    create,
-)
+from cphysfno_core import ConfigError, CphysfnoError, CphysfnoWarning, create
+from cphysfno_core.plugin import LinearSystem, Rayleigh, StoryPushover, Structure
 
 MAX_ITERATIONS = 50
 """Least-squares iterations from each start (the Jacobian's evaluations aside)."""

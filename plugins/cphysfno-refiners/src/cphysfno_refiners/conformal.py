@@ -21,7 +21,8 @@ import numpy as np
 from pydantic import Field
 from scipy.ndimage import uniform_filter1d
 
-from cphysfno_core import InputError, NotFittedError, Params, Refiner
+from cphysfno_core import InputError, NotFittedError
+from cphysfno_core.plugin import Params, Refiner
 
 from .arrays import as_responses
 

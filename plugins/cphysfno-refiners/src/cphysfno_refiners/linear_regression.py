@@ -17,7 +17,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import InputError, NotFittedError, Params, Refiner
+from cphysfno_core import InputError, NotFittedError
+from cphysfno_core.plugin import Params, Refiner
 
 from .arrays import as_responses, record_blocks
 

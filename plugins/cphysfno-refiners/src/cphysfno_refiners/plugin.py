@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import cphysfno_core
+from cphysfno_core.plugin import hookimpl
 
 from .conformal import ConformalRefiner
 from .linear_regression import LinearRegressionRefiner
 
 
-@cphysfno_core.hookimpl
+@hookimpl
 def cphysfno_refiners() -> list[type]:
     """The refiners of this distribution."""
     return [LinearRegressionRefiner, ConformalRefiner]

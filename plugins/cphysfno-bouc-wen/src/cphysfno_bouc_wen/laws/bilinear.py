@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numba
-from cphysfno_core import LawFunctions, Params
+from cphysfno_core.plugin import LawFunctions, Params
 from pydantic import Field
 
 from .common import LAW_JIT, PerStory, RatioPerStory

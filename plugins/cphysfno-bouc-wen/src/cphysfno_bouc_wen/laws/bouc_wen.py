@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
-from cphysfno_core import LawFunctions, Params, per_story
+from cphysfno_core.plugin import LawFunctions, Params, per_story
 from pydantic import Field
 
 from .common import LAW_JIT, ExponentPerStory, PerStory, RatioPerStory, no_settling

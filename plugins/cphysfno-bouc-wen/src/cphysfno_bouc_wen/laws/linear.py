@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
-from cphysfno_core import LawFunctions, Params, StoryLaw
+from cphysfno_core.plugin import LawFunctions, Params, StoryLaw
 
 from .common import LAW_JIT, no_settling
 

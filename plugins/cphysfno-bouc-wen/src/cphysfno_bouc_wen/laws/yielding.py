@@ -4,7 +4,7 @@ and the yield drift the physics checks drive the stories past."""
 from __future__ import annotations
 
 import numpy as np
-from cphysfno_core import StoryLaw, per_story
+from cphysfno_core.plugin import StoryLaw, per_story
 
 
 class YieldingLaw(StoryLaw):

@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 from ..loader import import_opensees
 from ..transient import integrate

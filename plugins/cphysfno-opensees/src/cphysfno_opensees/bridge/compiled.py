@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 from ..fibre.columns import Columns, ColumnState
 from ..fibre.dynamics import SPLITS, Partition, newmark, static_steps

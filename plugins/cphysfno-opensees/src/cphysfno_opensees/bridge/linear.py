@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from cphysfno_core import LinearSystem, Rayleigh
+from cphysfno_core.plugin import LinearSystem, Rayleigh
 
 from ..matrices import condense
 from .design import BridgeDesign

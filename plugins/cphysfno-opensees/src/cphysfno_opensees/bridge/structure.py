@@ -10,7 +10,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import LinearSystem, Rayleigh, Stories
+from cphysfno_core.plugin import LinearSystem, Rayleigh, Stories
 
 from ..loader import import_opensees
 from ..structure import OpenSeesParams, OpenSeesStructure

@@ -15,7 +15,7 @@ from typing import Any, Literal
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 from ..convergence import ConvergenceParams
 from ..loader import import_opensees

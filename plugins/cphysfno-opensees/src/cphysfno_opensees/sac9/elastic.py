@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 from ..loader import import_opensees
 from .interior import InteriorSections

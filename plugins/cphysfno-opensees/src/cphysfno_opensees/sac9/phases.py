@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 from .elastic import (
     ElasticFrame,

@@ -11,7 +11,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import ConfigError, LinearSystem, Rayleigh, Stories, StoryPushover
+from cphysfno_core import ConfigError
+from cphysfno_core.plugin import LinearSystem, Rayleigh, Stories, StoryPushover
 
 from ..loader import import_opensees
 from ..pushover import (

@@ -11,7 +11,7 @@ import numpy as np
 import scipy.linalg
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from cphysfno_core import Rayleigh
+from cphysfno_core.plugin import Rayleigh
 
 from .source import ScriptError
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cphysfno_core import LinearSystem, Stories, StoryPushover
+from cphysfno_core.plugin import LinearSystem, Stories, StoryPushover
 
 from ..loader import import_opensees
 from ..pushover import STRENGTH_LOSS, Pushed, push, story_pushover_by

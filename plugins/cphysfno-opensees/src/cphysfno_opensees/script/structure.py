@@ -13,7 +13,8 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, PositiveFloat, field_validator, model_validator
 
-from cphysfno_core import LinearSystem, Stories, StoryPushover, edp
+from cphysfno_core import edp
+from cphysfno_core.plugin import LinearSystem, Stories, StoryPushover
 from cphysfno_core.signals import ResponseChannel
 
 from ..runner import call_in_worker
