@@ -217,8 +217,8 @@ def demand_values(demands: edp.EDPs, state: LimitState) -> np.ndarray:
         ConfigError: ``state.column`` is not a column of the demand (the message lists
             them).
     """
-    values = demands[state.demand]
-    columns = demands.columns[edp.definition(state.demand).name]
+    what = edp.definition(state.demand)
+    values, columns = demands[what.name], demands.columns[what.name]
     if state.column is not None:
         if state.column not in columns:
             raise ConfigError(
@@ -226,8 +226,7 @@ def demand_values(demands: edp.EDPs, state: LimitState) -> np.ndarray:
                 f"{state.demand}; its columns are {', '.join(columns)}"
             )
         return values[:, columns.index(state.column)]
-    start = 1 if edp.definition(state.demand).has_ground else 0
-    return np.max(values[:, start:], axis=1)
+    return np.max(values[:, what.first_location :], axis=1)
 
 
 def run_fragility(

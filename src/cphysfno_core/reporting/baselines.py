@@ -297,7 +297,7 @@ def fit_and_predict(
         named responses (a peak-EDP regression says nothing of them).
     """
     keys = edp.scored_names(train)
-    starts = [1 if edp.EDP_TABLE[key].has_ground else 0 for key in keys]
+    starts = [edp.EDP_TABLE[key].first_location for key in keys]
     tables = [train.values[k][:, a:] for k, a in zip(keys, starts, strict=True)]
     values = np.column_stack(tables)
     bounds = np.cumsum([0, *(t.shape[1] for t in tables)])

@@ -439,7 +439,7 @@ def log_errors(predicted: EDPs, truth: EDPs) -> dict[str, dict[str, list[float]]
     """
     found = {}
     for key in scored_names(predicted, truth):
-        start = 1 if EDP_TABLE[key].has_ground else 0
+        start = EDP_TABLE[key].first_location
         pred, true = predicted.values[key][:, start:], truth.values[key][:, start:]
         if pred.shape != true.shape:
             raise InputError(f"predicted {key} {pred.shape} and true {true.shape} differ")
@@ -464,7 +464,7 @@ def scored_columns(edps: EDPs) -> dict[str, list[str]]:
     """The columns :func:`log_errors` scores of each scored EDP of ``edps``: stories,
     floors above the ground, outputs."""
     return {
-        key: list(edps.columns[key][1 if EDP_TABLE[key].has_ground else 0 :])
+        key: list(edps.columns[key][EDP_TABLE[key].first_location :])
         for key in scored_names(edps)
     }
 

@@ -103,10 +103,11 @@ class EDPDefinition:
     peak_of: Callable[[EDPInputs], np.ndarray | None]
 
     @property
-    def has_ground(self) -> bool:
-        """Whether column 0 is the ground's own value (a floor EDP's), which the error
-        tables and fragility leave out."""
-        return self.axis == "floor"
+    def first_location(self) -> int:
+        """The first column that is the structure's: 1 where column 0 is the ground's own
+        value (a floor EDP's), which the error tables, baselines and fragility leave out;
+        else 0."""
+        return 1 if self.axis == "floor" else 0
 
 
 def per_metre(stories: Stories) -> np.ndarray:
