@@ -12,7 +12,7 @@ import numpy as np
 from ..messages import captured, said
 from .damping import DampingSetup
 from .responses import ResponseParams, check_responses
-from .source import BUILD, ScriptError, call, load
+from .source import BUILD, ScriptError, call, check_arguments, load
 
 LENGTH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048}
 """Metres per length unit of a model."""
@@ -43,6 +43,9 @@ class ModelSpec:
         constraints: the ``ops.constraints`` arguments of every analysis (empty until
             chosen).
         responses: the named responses read at every step beside the outputs.
+        arguments: ``(keyword, value)`` pairs given to ``build()`` and the gravity
+            function, each the keywords its signature accepts (numbers in the script's
+            units).
     """
 
     script: Path
@@ -54,6 +57,18 @@ class ModelSpec:
     max_iterations: int
     constraints: tuple[Any, ...] = ()
     responses: tuple[ResponseParams, ...] = ()
+    arguments: tuple[tuple[str, float], ...] = ()
+
+    @property
+    def functions(self) -> tuple[str, ...]:
+        """The script's functions the model is built with: ``build`` and the gravity
+        function, if any."""
+        return (BUILD,) if self.gravity is None else (BUILD, self.gravity)
+
+    @property
+    def keywords(self) -> dict[str, float]:
+        """:attr:`arguments` as keywords (numbers in the script's units)."""
+        return dict(self.arguments)
 
     def with_constraints(self, constraints: tuple[Any, ...]) -> ModelSpec:
         return replace(self, constraints=tuple(constraints))
@@ -82,22 +97,23 @@ def build_model(
     *,
     gravity: bool = True,
 ) -> Built:
-    """Wipe the domain, run the script's ``build()``, check the outputs and, unless
-    ``gravity`` is False, bring the model to rest under its gravity loads
-    (:func:`apply_gravity`, analysed with the handler ``constraints``, default
+    """Wipe the domain, run the script's ``build()`` with its keywords of ``spec.arguments``,
+    check the outputs and, unless ``gravity`` is False, bring the model to rest under its
+    gravity loads (:func:`apply_gravity`, analysed with the handler ``constraints``, default
     ``spec.constraints``).
 
     Raises:
-        ScriptError: the script or its ``build()`` raises, the model has no nodes, an
-            output or a named response names a node, DOF or element the model does not
-            have, the excitation DOF is not one of its nodes', or the gravity analysis
-            fails.
+        ScriptError: the script or its ``build()`` raises, a keyword of ``spec.arguments``
+            is taken by no function of the script, the model has no nodes, an output or a
+            named response names a node, DOF or element the model does not have, the
+            excitation DOF is not one of its nodes', or the gravity analysis fails.
     """
     module = load(spec.script)
+    check_arguments(module, spec.script, spec.functions, spec.keywords)
     ops.wipe()
     with captured() as messages:
         try:
-            call(module, spec.script, BUILD)
+            call(module, spec.script, BUILD, spec.keywords)
         except ScriptError as error:
             raise ScriptError(f"{error}{said(messages)}") from None
     nodes = set(ops.getNodeTags())
@@ -135,10 +151,10 @@ def output_displacements(ops: Any, spec: ModelSpec) -> np.ndarray:
 
 
 def apply_gravity(ops: Any, spec: ModelSpec, constraints: tuple[Any, ...]) -> None:
-    """Call the script's gravity function; unless it has analysed its loads itself,
-    analyse them statically (Newton, :data:`GRAVITY_STEPS` load steps, the handler
-    ``constraints``); then hold them constant with the time reset to 0 (``loadConst -time
-    0.0``) and wipe the analysis.
+    """Call the script's gravity function with its keywords of ``spec.arguments``; unless
+    it has analysed its loads itself, analyse them statically (Newton,
+    :data:`GRAVITY_STEPS` load steps, the handler ``constraints``); then hold them constant
+    with the time reset to 0 (``loadConst -time 0.0``) and wipe the analysis.
 
     A function has analysed its loads when the analysis time has moved, or when the model
     has moved: the idiom of the OpenSees examples analyses the loads and holds them with
@@ -153,7 +169,7 @@ def apply_gravity(ops: Any, spec: ModelSpec, constraints: tuple[Any, ...]) -> No
     module = load(spec.script)
     with captured() as messages:
         try:
-            call(module, spec.script, spec.gravity)
+            call(module, spec.script, spec.gravity, spec.keywords)
         except ScriptError as error:
             raise ScriptError(f"{error}{said(messages)}") from None
         if ops.getTime() == 0.0 and not _has_moved(ops):

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import inspect
 import sys
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
 
@@ -82,7 +83,7 @@ def load(path: Path) -> ModuleType:
     return module
 
 
-def function(module: ModuleType, path: Path, name: str) -> Callable[[], object]:
+def function(module: ModuleType, path: Path, name: str) -> Callable[..., object]:
     """The function ``name`` the script defines.
 
     Raises:
@@ -100,8 +101,9 @@ def function(module: ModuleType, path: Path, name: str) -> Callable[[], object]:
     return found
 
 
-def call(module: ModuleType, path: Path, name: str) -> None:
-    """Call the script's function ``name()``.
+def call(module: ModuleType, path: Path, name: str, arguments: Mapping[str, float]) -> None:
+    """Call the script's function ``name`` with the keywords of ``arguments`` it accepts
+    (:func:`accepted`; numbers in the script's units).
 
     Raises:
         ScriptError: it raises; the message names the script, the function and the
@@ -109,12 +111,57 @@ def call(module: ModuleType, path: Path, name: str) -> None:
     """
     target = function(module, path, name)
     try:
-        target()
+        target(**accepted(target, arguments))
     except Exception as error:  # noqa: BLE001 - the user's code: any exception is theirs
         raise ScriptError(
             f"{name}() of OpenSees script {path} raised {type(error).__name__}: {error}\n"
             f"{_their_traceback(error, path)}"
         ) from None
+
+
+def keywords(target: Callable[..., object]) -> tuple[str, ...] | None:
+    """The names ``target`` can be given as keywords, in its signature's order; None if it
+    takes any keyword (``**kwargs``)."""
+    names = []
+    for parameter in inspect.signature(target).parameters.values():
+        if parameter.kind is parameter.VAR_KEYWORD:
+            return None
+        if parameter.kind in (parameter.POSITIONAL_OR_KEYWORD, parameter.KEYWORD_ONLY):
+            names.append(parameter.name)
+    return tuple(names)
+
+
+def accepted(target: Callable[..., object], arguments: Mapping[str, float]) -> dict[str, float]:
+    """The keywords of ``arguments`` that ``target``'s signature accepts (all of them if it
+    takes ``**kwargs``)."""
+    names = keywords(target)
+    return {key: value for key, value in arguments.items() if names is None or key in names}
+
+
+def check_arguments(
+    module: ModuleType, path: Path, names: Sequence[str], arguments: Mapping[str, float]
+) -> None:
+    """Check that each keyword of ``arguments`` is accepted by at least one of the script's
+    functions ``names`` (``build`` and the gravity function).
+
+    Raises:
+        ScriptError: a function is missing, or a keyword is accepted by none of them; the
+            message names the keywords, the script and the parameters the functions take.
+    """
+    if not arguments:
+        return
+    targets = {name: function(module, path, name) for name in names}
+    taken = set().union(*(accepted(target, arguments) for target in targets.values()))
+    unknown = [key for key in arguments if key not in taken]
+    if unknown:
+        signatures = ", ".join(
+            f"{name}({', '.join(keywords(target) or ())})" for name, target in targets.items()
+        )
+        raise ScriptError(
+            f"arguments: {', '.join(unknown)}: no parameter of "
+            f"{' or '.join(f'{name}()' for name in names)} of OpenSees script {path} "
+            f"takes {'it' if len(unknown) == 1 else 'them'}; they take {signatures}"
+        )
 
 
 def _their_traceback(error: BaseException, path: Path) -> str:

@@ -31,17 +31,25 @@ logger = logging.getLogger(__name__)
 
 Node = int
 Dof = Literal[1, 2, 3, 4, 5, 6]
+PYTHON_NAME = r"^[A-Za-z_][A-Za-z0-9_]*$"
+"""A name a script's function or keyword may have."""
 
 
 class OpenSeesModelParams(OpenSeesParams):
-    """Parameters of :class:`OpenSeesModel`: the script, its outputs, the damping, the
-    gravity loads, the units and the constraint handler."""
+    """Parameters of :class:`OpenSeesModel`: the script and its arguments, its outputs, the
+    damping, the gravity loads, the units and the constraint handler."""
 
     script: Path = Field(
         description="Python file defining build(), which creates the model in OpenSeesPy's "
         "domain (nodes, fixities, masses, materials, elements; no damping, loads or "
         "analysis); relative to the config file's folder in a config, else to the working "
         "directory",
+    )
+    arguments: dict[Annotated[str, Field(pattern=PYTHON_NAME)], float] = Field(
+        {},
+        description="keyword arguments given to the script's build() and gravity functions, "
+        "numbers in the script's own units: each function gets those its signature accepts "
+        "(all with **kwargs); one that neither accepts is an error",
     )
     outputs: list[tuple[Node, Dof]] = Field(
         min_length=1,
@@ -80,7 +88,7 @@ class OpenSeesModelParams(OpenSeesParams):
     )
     gravity: str | None = Field(
         None,
-        pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
+        pattern=PYTHON_NAME,
         description="name of a function of the script that applies the gravity loads (and "
         "may analyse them itself); they are held constant during the record",
     )
@@ -153,12 +161,14 @@ class OpenSeesModelParams(OpenSeesParams):
 class OpenSeesModel(OpenSeesStructure):
     """A user's own OpenSeesPy model under horizontal (or any single-DOF) ground motion.
 
-    The script's ``build()`` creates the model; the framework adds the rest:
+    The script's ``build()`` creates the model, given the keywords of ``arguments`` its
+    signature accepts; the framework adds the rest:
 
-    - gravity: the script's function ``gravity`` (if named) applies the gravity loads
-      and may analyse them itself; if it leaves them unanalysed the framework analyses them
-      statically; either way they are held constant (``loadConst -time 0.0``) before the
-      record, so P-Delta acts through the element transformations the script chose;
+    - gravity: the script's function ``gravity`` (if named; given its keywords of
+      ``arguments`` as ``build()`` is) applies the gravity loads and may analyse them
+      itself; if it leaves them unanalysed the framework analyses them statically; either
+      way they are held constant (``loadConst -time 0.0``) before the record, so P-Delta
+      acts through the element transformations the script chose;
     - damping (``damping``): Rayleigh on the mass and the initial stiffness (``alphaM``,
       ``betaKinit``; ``rayleigh``) or the committed stiffness (``betaKcomm``;
       ``rayleigh-committed``), ``damping_ratio`` in ``rayleigh_modes`` of the model at its
@@ -214,6 +224,7 @@ class OpenSeesModel(OpenSeesStructure):
             tolerance=p.tolerance / self.metres_per_unit,
             max_iterations=p.max_iterations,
             responses=tuple(p.responses),
+            arguments=tuple(p.arguments.items()),
         )
 
     @property
@@ -235,7 +246,8 @@ class OpenSeesModel(OpenSeesStructure):
         linear equations at the gravity state (once per instance).
 
         Raises:
-            ScriptError: the script fails, or the model cannot be analysed.
+            ScriptError: the script fails, a keyword of ``arguments`` is taken by none of
+                its functions, or the model cannot be analysed.
             PluginError: the probe's process died (OpenSees ended it).
         """
         p = self.params
@@ -404,6 +416,7 @@ class OpenSeesModel(OpenSeesStructure):
             json.dumps(
                 {
                     "script": str(self.spec.script),
+                    "arguments": self.spec.keywords,
                     "constraints": list(summary.constraints),
                     "constraint_checks": [list(check) for check in summary.checks],
                     "damping": summary.damping_setup.describe(),
