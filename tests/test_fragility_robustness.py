@@ -13,15 +13,16 @@ from cphysfno_core.signals.intensity import average_spectral_acceleration, respo
 
 
 class _Doubling:
-    """Predicts twice the ground motion as displacement and three times it as acceleration;
-    raises for a batch holding a record that starts at 99, and gives NaN for one that
-    starts at -1."""
+    """Predicts twice the ground motion as displacement (or its parameter ``k`` times it)
+    and three times it as acceleration; raises for a batch holding a record that starts at
+    99, and gives NaN for one that starts at -1."""
 
-    def predict_stages(self, motions):
+    def predict_stages(self, motions, params=None):
         ag = motions.acceleration
         if np.any(ag[:, 0] == 99.0):
             raise InputError("z holds NaN or Inf (first in record 0)")
-        mean = 2.0 * ag[:, :, None]
+        factor = params["k"][:, None, None] if params else 2.0
+        mean = factor * ag[:, :, None]
         mean[ag[:, 0] == -1.0] = np.nan
         return Prediction(None, mean, mean, np.zeros_like(mean), 3.0 * ag[:, :, None])
 
@@ -39,6 +40,9 @@ def test_prediction_goes_on_past_the_records_that_fail():
         1: "z holds NaN or Inf (first in record 0)",
         3: "the prediction is not finite",
     }
+    k = np.array([1.0, 5.0, 2.0, 4.0])
+    each, _ = predict_skipping_failures(_Doubling(), GroundMotions(ag, 0.01), {"k": k})
+    np.testing.assert_array_equal(each.displacement[[0, 2], :, 0], k[[0, 2], None] * ag[[0, 2]])
     clean, none = predict_skipping_failures(_Doubling(), GroundMotions(np.ones((2, 5)), 0.01))
     assert none == {} and np.isfinite(clean.displacement).all()
     with pytest.raises(CphysfnoError, match="no record could be predicted"):

@@ -16,10 +16,11 @@ def _every_label():
     """Every label a run of the registered components can make."""
     for operator in REGISTRY.names("operator"):
         yield ModelLabel(operator)
-        for preprocessor, refined, residual in itertools.product(
-            REGISTRY.names("preprocessor"), (False, True), (False, True)
+        yield ModelLabel(operator, parameters=True)
+        for preprocessor, refined, residual, parameters in itertools.product(
+            REGISTRY.names("preprocessor"), (False, True), (False, True), (False, True)
         ):
-            yield ModelLabel(operator, preprocessor, refined, residual)
+            yield ModelLabel(operator, preprocessor, refined, residual, parameters)
     for preprocessor in REGISTRY.names("preprocessor"):
         yield ModelLabel.physics(preprocessor)
 
@@ -29,6 +30,15 @@ def test_every_label_reads_back_as_itself(label):
     text = str(label)
     assert ModelLabel.parse(text, REGISTRY.names("operator")) == label
     assert str(ModelLabel.parse(text, REGISTRY.names("operator"))) == text
+
+
+def test_a_model_that_takes_the_structures_parameters_says_so_last():
+    label = ModelLabel.parse("refined-c-physfno-els-residual-params", ["fno"])
+    assert (label.operator, label.preprocessor) == ("fno", "els")
+    assert label.refined and label.residual and label.parameters
+    assert ModelLabel.parse("fno-params", ["fno"]) == ModelLabel("fno", parameters=True)
+    with pytest.raises(ValueError, match="parameter inputs"):
+        ModelLabel.parse("physics-els-params")
 
 
 @pytest.mark.parametrize(

@@ -10,7 +10,12 @@ from scipy import stats
 
 import cphysfno_core as cp
 from cphysfno_core.config import ExperimentConfig
-from cphysfno_core.config.uncertainty import UncertainParameters
+from cphysfno_core.config.uncertainty import (
+    UncertainParameters,
+    distinct_draws,
+    value_at,
+    with_values,
+)
 
 STRUCTURE = """
 [structure]
@@ -193,3 +198,104 @@ def test_a_truncated_normal_draws_from_its_truncated_distribution():
     assert x.min() >= 0.5 and x.max() <= 6.0
     expected = stats.truncnorm((0.5 - 1.0) / 2.0, (6.0 - 1.0) / 2.0, loc=1.0, scale=2.0)
     assert stats.kstest(x, expected.cdf).statistic < 0.012
+
+
+def test_values_replace_numbers_or_distributions_at_their_paths_only():
+    table = {
+        "stiffnesses": [{"dist": "lognormal", "median": 4e7, "beta": 0.3}, 3e7],
+        "story_law": {"name": "bilinear", "yield_displacement": 0.01},
+    }
+    replaced = with_values(table, {"stiffnesses.0": 5e7, "story_law.yield_displacement": 0.02})
+    assert replaced == {
+        "stiffnesses": [5e7, 3e7],
+        "story_law": {"name": "bilinear", "yield_displacement": 0.02},
+    }
+    assert value_at(replaced, "stiffnesses.1") == 3e7
+    with pytest.raises(cp.ConfigError, match="no number at stiffnesses.2, story_law.fy"):
+        with_values(replaced, {"story_law.fy": 1.0, "stiffnesses.2": 1.0})
+    with pytest.raises(cp.ConfigError, match="stiffnesses.0: a distribution was given no value"):
+        with_values(table, {"stiffnesses.1": 1.0})
+    with pytest.raises(cp.ConfigError, match="no number at story_law.name"):
+        value_at(table, "story_law.name")
+
+
+def test_distinct_draws_group_records_in_order_of_their_first():
+    draws = np.array([[2.0, 1.0], [1.0, 1.0], [2.0, 1.0], [3.0, 0.0]])
+    groups = distinct_draws(draws)
+    assert [row.tolist() for row, _ in groups] == [[2.0, 1.0], [1.0, 1.0], [3.0, 0.0]]
+    assert [rows.tolist() for _, rows in groups] == [[0, 2], [1], [3]]
+
+
+@pytest.mark.parametrize(
+    "table, words",
+    [
+        ({"dist": "lognormal", "median": 4e7, "beta": 0.3}, "lognormal, median 4e+07, β 0.3"),
+        (
+            {"dist": "normal", "mean": 0.05, "std": 0.01, "lower": 0.02},
+            "normal, mean 0.05, σ 0.01, truncated ≥ 0.02",
+        ),
+        (
+            {"dist": "uniform", "low": 1, "high": 2, "upper": 1.5},
+            "uniform, 1 to 2, truncated ≤ 1.5",
+        ),
+    ],
+)
+def test_a_distribution_describes_itself(table, words):
+    (parameter,) = UncertainParameters.of({"x": table}).parameters
+    assert parameter.distribution.describe() == words
+
+
+def test_test_tails_put_training_draws_in_the_centre_and_test_draws_beyond_it():
+    space = UncertainParameters.of(
+        {
+            "a": {"dist": "normal", "mean": 0.0, "std": 1.0},
+            "b": {"dist": "normal", "mean": 0.0, "std": 2.0},
+        },
+        test_tails=1.0,
+    )
+    draws = space.draw(4000, seed=3, n_central=3000)
+    central, tails = draws[:3000] / [1.0, 2.0], draws[3000:] / [1.0, 2.0]
+    assert np.abs(central).max() <= 1.0 and np.abs(tails).min() >= 1.0
+    assert (tails < 0).mean() == pytest.approx(0.5, abs=0.05)
+    # within each region, the draws follow the distribution restricted to it
+    within = stats.truncnorm(-1.0, 1.0)
+    assert stats.kstest(central[:, 0], within.cdf).pvalue > 0.01
+    beyond = np.abs(tails[:, 1])
+    assert stats.kstest(beyond, stats.truncnorm(1.0, np.inf).cdf).pvalue > 0.01
+    # a record keeps its draw for any number of records, and a far edge changes nothing
+    np.testing.assert_array_equal(space.draw(3100, seed=3, n_central=3000), draws[:3100])
+    plain = UncertainParameters.of({"a": {"dist": "normal", "mean": 0.0, "std": 1.0}})
+    far = UncertainParameters.of({"a": {"dist": "normal", "mean": 0.0, "std": 1.0}}, test_tails=9)
+    np.testing.assert_allclose(far.draw(50, 1, n_central=50), plain.draw(50, 1), atol=1e-9)
+
+
+def test_test_tails_reach_the_dataset_splits(tmp_path):
+    text = """
+[structure]
+name = "shear-building"
+masses = [4.0e4, 3.0e4]
+stiffnesses = [{ dist = "lognormal", median = 4e7, beta = 0.3 }, 3e7]
+
+[uncertainty]
+test_tails = 1.0
+
+[ground_motion]
+name = "white-noise"
+duration = 1.0
+
+[[preprocessor]]
+name = "els"
+
+[operator]
+name = "fno"
+
+[data]
+n_train = 4
+n_val = 2
+n_test = 4
+executor = "serial"
+"""
+    config = cp.parse_config(tomllib.loads(text))
+    cp.generate_dataset(config, tmp_path / "d.h5", progress=False)
+    z = np.log(cp.load_dataset(tmp_path / "d.h5").params[:, 0] / 4e7) / 0.3
+    assert np.abs(z[:6]).max() <= 1.0 + 1e-12 and np.abs(z[6:]).min() >= 1.0 - 1e-12

@@ -58,9 +58,9 @@ def test_inputs_are_built_one_chunk_at_a_time(trained, monkeypatch) -> None:
     sizes = []
     build = cp.CompositeModel._inputs
 
-    def recording(self, chunk_motions, z):
+    def recording(self, chunk_motions, z, channels=None):
         sizes.append(chunk_motions.n_records)
-        return build(self, chunk_motions, z)
+        return build(self, chunk_motions, z, channels)
 
     monkeypatch.setattr(cp.CompositeModel, "_inputs", recording)
     model.predict(motions)

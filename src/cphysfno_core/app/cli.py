@@ -209,6 +209,7 @@ def _predict(args: argparse.Namespace) -> int:
         device=args.device,
         precision=args.precision,
         units=args.units,
+        params=args.params,
     )
     print(
         f"{run.records} records predicted in {run.seconds:.2f} s "
@@ -246,14 +247,30 @@ def _fragility(args: argparse.Namespace) -> int:
     for name, found in document["skipped_records"].items():
         if found["count"]:
             print(f"{found['count']} {name} records could not be predicted: left out of the fits")
+    sources = ["simulation", "surrogate", "surrogate-large"]
+    modelling = document["modelling_uncertainty"]
+    if modelling is not None:
+        sources.append("surrogate-large-medians")
+        print(
+            "modelling uncertainty: the large set draws "
+            f"{', '.join(modelling['parameters'])}; surrogate-large-medians sets them at "
+            "their medians"
+        )
     print(
         f"fragility medians ({im['description']}, {im['unit']}) and beta, "
-        "simulation | surrogate | surrogate-large (* flagged):"
+        f"{' | '.join(sources)} (* flagged):"
     )
-    flagged = []
+    flagged, split = [], []
     for name, fits in document["limit_states"].items():
         cells = []
-        for source in ("simulation", "surrogate", "surrogate-large"):
+        found = fits.get("dispersion")
+        if found is not None and found["beta_modelling"] is not None:
+            split.append(
+                f"  {name:<14} total {found['beta_total']:.2f} = record-to-record "
+                f"{found['beta_record_to_record']:.2f} (+) modelling "
+                f"{found['beta_modelling']:.2f}; median x{found['median_shift']:.2f}"
+            )
+        for source in sources:
             fit = fits[source]
             if fit["median"] is None:
                 cells.append("not reached" if fit["n_exceeded"] == 0 else "every record")
@@ -262,6 +279,9 @@ def _fragility(args: argparse.Namespace) -> int:
             cells.append(f"{fit['median']:.4g}, {fit['beta']:.2f}{mark}")
             flagged += [f"  * {name}, {source}: {flag}" for flag in fit["flags"]]
         print(f"  {name:<14} " + " | ".join(cells))
+    if split:
+        print("dispersion of the large set, beta (square root of the sum of squares):")
+        print("\n".join(split))
     if flagged:
         print("fits the records may not determine:")
         print("\n".join(flagged))
@@ -277,6 +297,8 @@ def _demands(args: argparse.Namespace) -> int:
         motions_file=None if args.motions is None else Path(args.motions),
         model_label=args.model,
         out=None if args.out is None else Path(args.out),
+        params_file=None if args.params is None else Path(args.params),
+        seed=args.seed,
     )
     print(
         f"model {label}: {written.n_records} records ({written.n_collapsed} collapsed, "
@@ -405,6 +427,13 @@ def build_parser() -> argparse.ArgumentParser:
         "unit, m/s2 with a warning)",
     )
     predict.add_argument(
+        "--params",
+        help="for a model of a family of structures: a CSV file whose header names "
+        "structural parameters (their dotted paths, e.g. stiffnesses.0) and whose rows give "
+        "their values, one row a record or one row for all; a parameter left out takes the "
+        "model's nominal value",
+    )
+    predict.add_argument(
         "--on-grid",
         action="store_true",
         help="resample records on another time grid to the model's (anti-aliased, then cut "
@@ -464,7 +493,12 @@ def build_parser() -> argparse.ArgumentParser:
         "structure and ground-motion source)",
     )
     fragility.add_argument("--bootstrap", type=int, default=200, help="bootstrap resamples")
-    fragility.add_argument("--seed", type=int, default=0, help="seeds the motions and bootstrap")
+    fragility.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        help="seeds the motions, their structural parameters (a family) and the bootstrap",
+    )
     fragility.add_argument("--out", help="folder to write to (default RUN/fragility)")
     fragility.set_defaults(func=_fragility)
     text = (
@@ -479,6 +513,15 @@ def build_parser() -> argparse.ArgumentParser:
     demands.add_argument("--motions", help="predict these motions instead of the test records")
     demands.add_argument("--model", help="a model under RUN/models (default: as fragility)")
     demands.add_argument("--out", help="the CSV to write (default RUN/demands/demands.csv)")
+    demands.add_argument(
+        "--params",
+        help="with --motions, for a model of a family of structures: a CSV of the records' "
+        "structural parameters (as cphysfno predict reads it); without it they are drawn "
+        "from the config's distributions",
+    )
+    demands.add_argument(
+        "--seed", type=int, default=0, help="seeds the draw of structural parameters"
+    )
     demands.set_defaults(func=_demands)
     text = (
         "summarise finished run folders (e.g. one per seed) as study.json does, and combine "

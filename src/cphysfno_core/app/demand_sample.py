@@ -7,6 +7,11 @@ drops) or motions from a file; the demands are the EDPs of the chosen model's
 predictions (:mod:`cphysfno_core.reporting.edp`; PFA from the predicted accelerations of a
 model that learns them), written by
 :func:`cphysfno_core.reporting.demands.write_pelicun_demands`.
+
+For a model of a family of structures, a test record is predicted on its own drawn
+structure; a record from a file on the parameters of a CSV file (``params``) or, without
+one, on parameters drawn from the config's distributions (``seed``): the sample then
+carries modelling dispersion beside record-to-record dispersion.
 """
 
 from __future__ import annotations
@@ -17,13 +22,13 @@ import numpy as np
 
 from ..data.datasets import load_dataset
 from ..data.layout import DATASET
-from ..model.prediction_files import read_motions
+from ..model.prediction_files import read_motions, read_parameters
 from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
 from ..reporting.demands import PelicunDemands, write_pelicun_demands
 from ..signals import GroundMotions
 from ..signals.intensity import peak_ground_acceleration, peak_ground_velocity
-from .fragility_study import load_trained_run
+from .fragility_study import load_trained_run, modelling_uncertainty
 
 
 def write_demand_sample(
@@ -32,9 +37,12 @@ def write_demand_sample(
     motions_file: Path | None = None,
     model_label: str | None = None,
     out: Path | None = None,
+    params_file: Path | None = None,
+    seed: int = 0,
 ) -> tuple[PelicunDemands, str]:
     """Predict the records, compute their EDPs and write ``RUN/demands/demands.csv`` (or
-    ``out``).
+    ``out``); ``params_file`` and ``seed``: the structural parameters of the records of
+    ``motions_file`` for a model of a family (see the module's text).
 
     Returns:
         What was written, and the model's label.
@@ -45,9 +53,15 @@ def write_demand_sample(
     trained = load_trained_run(Path(run), model_label)
     model, structure = trained.model, trained.structure
     edp.require_heights(edp.stories_of(structure), "a pelicun demand sample")
+    params = None
     if motions_file is not None:
         motions = read_motions(motions_file)
         collapsed = stopped = np.zeros(motions.n_records, dtype=bool)
+        space = modelling_uncertainty(model, trained.config)
+        if params_file is not None:
+            params = read_parameters(params_file)
+        elif space is not None:
+            params = space.columns(space.draw(motions.n_records, seed))
     else:
         data = load_dataset(run / DATASET)
         flagged, unfinished = data.collapsed_rows("test"), data.non_converged_rows("test")
@@ -55,9 +69,14 @@ def write_demand_sample(
         motions = GroundMotions(data.ag[everything], data.dt)
         collapsed = np.isin(everything, flagged)
         stopped = np.isin(everything, unfinished)
+        if model.parameters is not None:
+            params = data.draws_of(everything)
     standing = np.flatnonzero(~collapsed & ~stopped)
-    predicted = edp.compute(predict_skipping_failures(model, motions[standing])[0], structure,
-                            motions[standing])  # fmt: skip
+    if params is not None:
+        n = motions.n_records
+        params = {name: np.broadcast_to(v, n)[standing] for name, v in params.items()}
+    responses = predict_skipping_failures(model, motions[standing], params)[0]
+    predicted = edp.compute(responses, structure, motions[standing])
     demands = predicted.map(lambda values: _spread(values, standing, motions.n_records))
     # the ground's own column, every record's
     demands.values["PFA"][:, 0] = peak_ground_acceleration(motions.acceleration)

@@ -13,8 +13,17 @@ The demand of a record is the largest over stories of its peak story drift ratio
 or the largest over floors of its peak absolute floor acceleration (PFA, m/s^2). A record
 that collapsed the structure exceeds every limit state in the simulation curves; one whose
 analysis stopped converging below the collapse is left out of them, or counted as a
-collapse (``non_converged``). The
-surrogate does not predict collapse: its curves combine the probability of collapse,
+collapse (``non_converged``).
+
+For a run whose structure has random parameters (a model of a family), each test record
+is predicted on its own drawn structure, and each record of the large set draws its
+parameters from the config's distributions: its curves carry record-to-record and
+modelling dispersion. The large set is then predicted a second time with every parameter
+at its median (``surrogate-large-medians``: record-to-record dispersion alone), and each
+limit state's ``dispersion`` splits the total β into the two,
+``β_modelling = sqrt(β_total² - β_record-to-record²)``.
+
+The surrogate does not predict collapse: its curves combine the probability of collapse,
 fitted against the intensity measure on the simulated records, with the surrogate's
 demands by total probability, ``P(C) + (1 - P(C)) P(exceed | no collapse)``, summarised
 by the lognormal closest to that curve; their intervals are those of the non-collapse
@@ -34,6 +43,7 @@ import numpy as np
 
 from ..api.registry import get_registry
 from ..config.experiment import load_config, parse_config
+from ..config.uncertainty import UncertainParameters
 from ..data.datasets import load_dataset
 from ..data.layout import DATASET, MODELS
 from ..model.composite import CompositeModel
@@ -313,12 +323,23 @@ def run_fragility(
     for state in limit_states:  # an unknown column is refused before any prediction
         demand_values(truth, state)
     kept = motions[np.flatnonzero(standing)]
-    responses, test_failures = predict_skipping_failures(model, kept)
+    drawn = data.draws_of(rows[standing]) if model.parameters is not None else None
+    responses, test_failures = predict_skipping_failures(model, kept, drawn)
     predicted = edp.compute(responses, structure, kept)
 
+    space = modelling_uncertainty(model, config)
     started = time.perf_counter()
-    large = _large_analysis(model, structure, config, records, motions_file, im, seed, progress)
+    large = _large_analysis(
+        model, structure, config, records, motions_file, im, seed, progress, space
+    )
     large_seconds = time.perf_counter() - started
+    medians = None
+    if space is not None:
+        if progress:
+            show_progress("  fragility: the large set again, every parameter at its median")
+        medians = _large_analysis(
+            model, structure, config, records, motions_file, im, seed, progress, None
+        )
 
     rng = np.random.default_rng(seed)
     collapse = None
@@ -338,6 +359,9 @@ def run_fragility(
         "large_seconds": round(large_seconds, 1),
         "large_source_records": large.distinct,
         "large_extrapolated": large.extrapolated,
+        "modelling_uncertainty": None
+        if space is None
+        else {"parameters": list(space.names), "units": list(space.units)},
         "skipped_records": {
             "test": _skipped(test_failures, np.flatnonzero(standing)),
             "large": _skipped(large.failures, np.arange(large.intensity.size)),
@@ -357,6 +381,8 @@ def run_fragility(
     curves = {}
     predicted_ok = np.isfinite(predicted.pid).all(axis=1)
     large_ok = np.isfinite(large.demands.pid).all(axis=1)
+    sources = ("simulation", "surrogate", "surrogate-large")
+    sources += () if medians is None else ("surrogate-large-medians",)
     for state in limit_states:
         what = f"{state.name} ({measure})"
         simulated = np.where(collapsed, True, demand_values(truth, state) > state.threshold)
@@ -373,17 +399,19 @@ def run_fragility(
             demand_values(large.demands, state)[large_ok] > state.threshold,
             collapse, grid, rng, n_bootstrap, what + ", surrogate-large",
         )  # fmt: skip
-        document["limit_states"][state.name] = {
-            "simulation": simulation,
-            "surrogate": surrogate,
-            "surrogate-large": large_fit,
-        }
+        fits = {"simulation": simulation, "surrogate": surrogate, "surrogate-large": large_fit}
+        if medians is not None:
+            medians_ok = np.isfinite(medians.demands.pid).all(axis=1)
+            fits["surrogate-large-medians"] = _surrogate_fit(
+                medians.intensity[medians_ok],
+                demand_values(medians.demands, state)[medians_ok] > state.threshold,
+                collapse, grid, rng, n_bootstrap, what + ", surrogate-large-medians",
+            )  # fmt: skip
+            fits["dispersion"] = dispersion_split(large_fit, fits["surrogate-large-medians"])
+        document["limit_states"][state.name] = fits
         curves[state.name] = {}
-        for source, fit in (
-            ("simulation", simulation),
-            ("surrogate", surrogate),
-            ("surrogate-large", large_fit),
-        ):
+        for source in sources:
+            fit = fits[source]
             if fit["median"] is not None:
                 curves[state.name][source] = Fragility(fit["median"], fit["beta"])
     out = run / "fragility" if out is None else Path(out)
@@ -401,6 +429,51 @@ def run_fragility(
         out / "edp-im.png",
     )  # fmt: skip
     return document
+
+
+def modelling_uncertainty(model: CompositeModel, config: Any) -> UncertainParameters | None:
+    """The random parameters the large set draws: the config's, for a model of a family
+    (None for a model of one structure, or a config without distributions).
+
+    Raises:
+        ConfigError: the config draws a parameter the model does not take.
+    """
+    space = config.uncertain_parameters()
+    if model.parameters is None or not space.parameters:
+        return None
+    unknown = sorted(set(space.names) - set(model.parameters.names))
+    if unknown:
+        raise ConfigError(
+            f"the config draws {', '.join(unknown)}, which the model does not take (it takes "
+            f"{', '.join(model.parameters.names)}): fix them in the config, or train on them"
+        )
+    return space
+
+
+def dispersion_split(drawn: dict[str, Any], medians: dict[str, Any]) -> dict[str, Any]:
+    """The total β of the fit with drawn parameters split into the record-to-record β (the
+    fit with every parameter at its median) and the modelling β, combined as the square
+    root of the sum of squares (FEMA P-58's way of adding dispersions):
+    ``β_modelling = sqrt(β_total² - β_record-to-record²)``, 0 where the total is the smaller
+    (with ``note``); ``median_shift`` is the ratio of the medians, drawn over medians.
+    None values where a fit is missing."""
+    total, record = drawn.get("beta"), medians.get("beta")
+    found: dict[str, Any] = {
+        "beta_total": total,
+        "beta_record_to_record": record,
+        "beta_modelling": None,
+        "median_shift": None,
+    }
+    if total is None or record is None:
+        return found
+    found["beta_modelling"] = float(np.sqrt(max(total**2 - record**2, 0.0)))
+    found["median_shift"] = float(drawn["median"] / medians["median"])
+    if total < record:
+        found["note"] = (
+            "the total β is below the record-to-record β: the modelling dispersion is within "
+            "the fits' scatter"
+        )
+    return found
 
 
 def _skipped(failures: dict[int, str], records: np.ndarray) -> dict[str, Any]:
@@ -497,10 +570,13 @@ def _large_analysis(
     im: IntensityMeasure,
     seed: int,
     progress: bool,
+    space: UncertainParameters | None = None,
 ) -> LargeAnalysis:
     """The large set predicted :data:`CHUNK` records at a time, with progress (records per
     second and time left) after each chunk; records outside the training range are said
-    once at the end instead of warned for every chunk."""
+    once at the end instead of warned for every chunk. With ``space``, each record draws
+    its structural parameters from it (reproducibly by ``seed``); without, a model of a
+    family predicts every record at its parameters' medians."""
     if motions_file is not None:
         source_motions = read_motions(motions_file)
         n = source_motions.n_records
@@ -517,6 +593,7 @@ def _large_analysis(
     extrapolated = 0
     failures: dict[int, str] = {}
     training_pga = getattr(model, "training_pga_", None)
+    draws = None if space is None else space.draw(n, seed)
     for start in range(0, n, CHUNK):
         stop = min(start + CHUNK, n)
         if motions_file is not None:
@@ -528,7 +605,8 @@ def _large_analysis(
         extrapolated += int(outside_training(chunk, training_pga).sum())
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ExtrapolationWarning)
-            responses, failed = predict_skipping_failures(model, chunk)
+            params = None if draws is None else space.columns(draws[start:stop])
+            responses, failed = predict_skipping_failures(model, chunk, params)
         failures.update({start + i: why for i, why in failed.items()})
         parts.append(edp.compute(responses, structure, chunk))
         intensities.append(im.of(chunk))

@@ -53,8 +53,14 @@ def model_labels(config: ExperimentConfig) -> list[str]:
 
 
 def _label(operator: Any, pp: Any, form: Any, refined: bool = False) -> str:
-    residual = form is not None and bool(form.residual)
-    return str(ModelLabel(operator.name, pp and pp.name, refined=refined, residual=residual))
+    label = ModelLabel(
+        operator.name,
+        pp and pp.name,
+        refined=refined,
+        residual=bool(form.residual),
+        parameters=bool(form.parameter_input),
+    )
+    return str(label)
 
 
 def _variants(config: ExperimentConfig) -> list[tuple[Any, Any, Any]]:
@@ -62,8 +68,8 @@ def _variants(config: ExperimentConfig) -> list[tuple[Any, Any, Any]]:
     ``config`` in training order, the baseline with preprocessor None and the response
     kinds of the formulation alone; only
     those ``output.models`` names, where it names some."""
-    baseline = config.formulation.physics_free()
-    variants: list[Any] = [(None, baseline)] if config.output.baseline else []
+    baseline = config.formulation.physics_free().forms()
+    variants: list[Any] = [(None, form) for form in baseline] if config.output.baseline else []
     variants += [(pp, form) for pp in config.preprocessor for form in config.formulation.forms()]
     every = {
         _label(operator, pp, form): (operator, pp, form)
@@ -120,6 +126,8 @@ def train(
     train_a = val_a = None
     if config.formulation.accelerations:
         train_a, val_a = data.accelerations("train")[kept], data.accelerations("val")
+    train_p = {name: values[kept] for name, values in data.parameter_draws("train").items()}
+    val_p = data.parameter_draws("val")
     saved: dict[str, Path] = {}
     for operator, pp, form in _variants(config):
         model = CompositeModel(
@@ -154,6 +162,9 @@ def train(
                 validation_z=z_val,
                 acceleration=train_a,
                 validation_acceleration=val_a,
+                params=train_p,
+                validation_params=val_p,
+                param_units=data.parameter_units,
                 checkpoint=checkpoint,
                 resume=resume,
             )
@@ -163,11 +174,11 @@ def train(
         if pp is not None and config.refiner is not None:
             refiner = registry.create("refiner", config.refiner.name, **config.refiner.params)
             split = (
-                (val_gm, val_u, z_val)
+                (val_gm, val_u, z_val, val_p)
                 if refiner.calibration_split == "validation"
-                else (train_gm, train_u, z_train)
+                else (train_gm, train_u, z_train, train_p)
             )
-            refined = model.refine(refiner, split[0], split[1], z=split[2])
+            refined = model.refine(refiner, split[0], split[1], z=split[2], params=split[3])
             saved[refined.label] = _replace_dir(refined, out / MODELS / refined.label)
     return saved
 
@@ -222,10 +233,10 @@ def evaluate(
             raise DatasetError(f"no trained model '{label}' in {out / MODELS}: run train first")
         model = CompositeModel.load(directory).to(config.training.device)
         z = None if model.preprocessor is None else data.physics(model.preprocessor.name, "test")
-        stages = model.predict_stages(test_gm, z=z)
+        stages = model.predict_stages(test_gm, z=z, params=data.parameter_draws("test"))
         predictions[label] = stages
         z_val = None if model.preprocessor is None else data.physics(model.preprocessor.name, "val")
-        validation = model.predict_stages(val_gm, z=z_val)
+        validation = model.predict_stages(val_gm, z=z_val, params=data.parameter_draws("val"))
         results[label] = metric_row(stages.mean, test_u)
         results[label]["validation_rel_l2"] = metrics.relative_l2(validation.mean, val_u).tolist()
         if stages.acceleration is not None:

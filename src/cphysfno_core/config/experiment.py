@@ -73,6 +73,15 @@ class UncertaintyConfig(_Strict):
         "structure (by dotted path, e.g. 'stiffnesses.0'), a Gaussian copula; the others "
         "are independent",
     )
+    test_tails: float | None = Field(
+        None,
+        gt=0.0,
+        description="c: the training and validation records draw every random parameter "
+        "from its central range (its standard normal number within [-c, c]) and the test "
+        "records from its tails (beyond c on either side): a test of the models on "
+        "structures outside the family they were trained on (default: every record draws "
+        "from the whole distributions)",
+    )
 
 
 class DataConfig(_Strict):
@@ -188,17 +197,32 @@ class FormulationConfig(_Strict):
         "(PFA) then come from the predicted accelerations, not from the displacements",
     )
 
+    parameter_input: bool | Literal["both"] = Field(
+        False,
+        description="for a structure with random parameters: true: the operator (of every "
+        "model, the baseline's too) also takes each record's parameters as constant input "
+        "channels, standardised by the training draws; 'both' (for a run): train every "
+        "model with and without them (the label of a model with them ends in '-params')",
+    )
+
     def physics_free(self) -> FormulationConfig:
         """The part of this formulation a model without physics response keeps: the
-        response kinds it learns."""
-        return FormulationConfig(accelerations=self.accelerations)
+        response kinds it learns and its parameter inputs."""
+        return FormulationConfig(
+            accelerations=self.accelerations, parameter_input=self.parameter_input
+        )
 
     def forms(self) -> list[FormulationConfig]:
-        """The concrete formulations this one trains: itself, or with ``residual =
-        'choose'`` the paper's form and the residual form."""
-        if self.residual != "choose":
-            return [self]
-        return [self.model_copy(update={"residual": value}) for value in (False, True)]
+        """The concrete formulations this one trains: itself, with ``residual =
+        'choose'`` the paper's form and the residual form, and with ``parameter_input =
+        'both'`` each without and with the parameter inputs."""
+        residuals = (False, True) if self.residual == "choose" else (self.residual,)
+        inputs = (False, True) if self.parameter_input == "both" else (self.parameter_input,)
+        return [
+            self.model_copy(update={"residual": residual, "parameter_input": parameter_input})
+            for parameter_input in inputs
+            for residual in residuals
+        ]
 
 
 class OutputConfig(_Strict):
@@ -296,7 +320,8 @@ class ExperimentConfig(_Strict):
             ConfigError: a distribution or a correlation is invalid (the message names it).
         """
         correlations = self.uncertainty.correlations if self.uncertainty else []
-        return UncertainParameters.of(self.structure.to_dict(), correlations)
+        tails = self.uncertainty.test_tails if self.uncertainty else None
+        return UncertainParameters.of(self.structure.to_dict(), correlations, test_tails=tails)
 
     def to_dict(self) -> dict[str, Any]:
         """The config as plain data (JSON types), its sections in the order of the fields."""
@@ -339,7 +364,13 @@ def parse_config(data: dict[str, Any], registry: Registry | None = None) -> Expe
         config = ExperimentConfig.model_validate(data)
     except ValidationError as error:
         raise ConfigError(format_validation_error(error)) from None
-    config.uncertain_parameters()
+    random = config.uncertain_parameters().parameters
+    if config.formulation.parameter_input and not random:
+        raise ConfigError(
+            "formulation.parameter_input: the structure has no random parameter to take as "
+            "input (give one a distribution, e.g. { dist = \"lognormal\", median = ..., "
+            "beta = ... })"
+        )
     check_components(config, registry)
     return config
 

@@ -12,6 +12,11 @@ parameter is named by its dotted path in the structure's table (``stiffnesses.0`
 ``story_law.yield_displacement``). Every record gets its own draw: standard normal numbers,
 correlated through a Gaussian copula (the ``correlations`` between named parameters), each
 carried to its distribution through its cumulative distribution function.
+
+To test a model on structures outside the family it was trained on, ``test_tails = c``
+draws the training and validation records' parameters from their central ranges (every
+standard normal number within ``[-c, c]``) and the test records' from their tails (every
+one beyond ``c`` in magnitude, on either side).
 """
 
 from __future__ import annotations
@@ -61,6 +66,20 @@ class _Distribution(BaseModel):
     def nominal(self) -> float:
         """The median of the (truncated) distribution: the value at ``z = 0``."""
         return float(self.values(np.zeros(1))[0])
+
+    def describe(self) -> str:
+        """The distribution in a few words: ``lognormal, median 4e+07, β 0.3``."""
+        bounds = [
+            f"{sign} {value:.4g}"
+            for sign, value in (("≥", self.lower), ("≤", self.upper))
+            if value is not None
+        ]
+        truncation = f", truncated {' and '.join(bounds)}" if bounds else ""
+        return f"{self.dist}, {self._fields()}{truncation}"
+
+    def _fields(self) -> str:
+        """Its own fields in words."""
+        raise NotImplementedError
 
     def _clip(self, values: np.ndarray) -> np.ndarray:
         lower = -np.inf if self.lower is None else self.lower
@@ -122,6 +141,9 @@ class Normal(_Gaussian):
     def _from_standard(self, x: np.ndarray) -> np.ndarray:
         return self.mean + self.std * x
 
+    def _fields(self) -> str:
+        return f"mean {self.mean:.4g}, σ {self.std:.4g}"
+
 
 class LogNormal(_Gaussian):
     """Lognormal: ``median exp(beta x)``."""
@@ -136,6 +158,9 @@ class LogNormal(_Gaussian):
     def _from_standard(self, x: np.ndarray) -> np.ndarray:
         return self.median * np.exp(self.beta * x)
 
+    def _fields(self) -> str:
+        return f"median {self.median:.4g}, β {self.beta:.3g}"
+
 
 class Uniform(_Distribution):
     """Uniform on ``[low, high]``, truncated: uniform on its intersection with
@@ -144,6 +169,9 @@ class Uniform(_Distribution):
     dist: Literal["uniform"]
     low: Finite
     high: Finite
+
+    def _fields(self) -> str:
+        return f"{self.low:.4g} to {self.high:.4g}"
 
     def _support(self) -> tuple[float, float]:
         low = self.low if self.lower is None else max(self.low, self.lower)
@@ -238,9 +266,89 @@ def random_parameters(params: Mapping[str, Any], where: str = "structure") -> li
 
 
 def with_values(params: Mapping[str, Any], values: Mapping[str, float]) -> dict[str, Any]:
-    """A copy of the structure's table ``params`` with the distribution at each path of
-    ``values`` replaced by its value there (a plain ``float``)."""
-    return _walk(dict(params), lambda path, table: float(values[path]))
+    """A copy of the structure's table ``params`` with the value at each dotted path of
+    ``values`` (a distribution or a number) replaced by its value there (a plain
+    ``float``).
+
+    Raises:
+        ConfigError: a path of ``values`` names no number or distribution of ``params``,
+            or a distribution is left without a value.
+    """
+    found: set[str] = set()
+
+    def replace(tree: Any, path: tuple[str, ...]) -> Any:
+        dotted = ".".join(path)
+        if dotted in values and (is_distribution(tree) or _is_number(tree)):
+            found.add(dotted)
+            return float(values[dotted])
+        if is_distribution(tree):
+            raise ConfigError(f"structure.{dotted}: a distribution was given no value")
+        if isinstance(tree, dict):
+            return {key: replace(item, (*path, str(key))) for key, item in tree.items()}
+        if isinstance(tree, list | tuple):
+            return [replace(item, (*path, str(i))) for i, item in enumerate(tree)]
+        return tree
+
+    replaced = replace(dict(params), ())
+    missing = sorted(set(values) - found, key=_order)
+    if missing:
+        raise ConfigError(
+            f"the structure has no number at {', '.join(missing)}: a parameter is named by "
+            "its dotted path in the structure's table (story_law.yield_displacement, "
+            "stiffnesses.0)"
+        )
+    return replaced
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float | np.number) and not isinstance(value, bool)
+
+
+def value_at(params: Mapping[str, Any], path: str) -> float:
+    """The number at the dotted ``path`` of the structure's table ``params``.
+
+    Raises:
+        ConfigError: ``path`` names no number there.
+    """
+    node: Any = params
+    for part in path.split("."):
+        if isinstance(node, dict) and part in node:
+            node = node[part]
+        elif isinstance(node, list | tuple) and part.isdigit() and int(part) < len(node):
+            node = node[int(part)]
+        else:
+            node = None
+            break
+    if not _is_number(node):
+        raise ConfigError(f"the structure has no number at {path}")
+    return float(node)
+
+
+def distinct_draws(draws: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The distinct rows of ``draws [n, k]``, each with the indices ``[m]`` of the records
+    that drew it, in the order of the rows' first records."""
+    distinct, first, which = np.unique(
+        np.asarray(draws, dtype=np.float64), axis=0, return_index=True, return_inverse=True
+    )
+    which = which.ravel()
+    return [(distinct[d], np.flatnonzero(which == d)) for d in np.argsort(first)]
+
+
+def into_regions(z: np.ndarray, n_central: int, edge: float) -> np.ndarray:
+    """Standard normal numbers ``z [n, k]`` carried through their probabilities ``u =
+    Phi(z)``, order kept: those of the first ``n_central`` rows into the central range
+    ``[-edge, edge]``, the others into the tails beyond ``edge`` (``u < 1/2`` the lower
+    tail, else the upper); each row stays as likely within its region as in the whole."""
+    u = ndtr(z)
+    tail = ndtr(-edge)
+    out = np.empty_like(z)
+    out[:n_central] = ndtri(tail + u[:n_central] * (1.0 - 2.0 * tail))
+    rest = u[n_central:]
+    lower = rest < 0.5
+    out[n_central:] = np.where(
+        lower, ndtri(2.0 * tail * rest), -ndtri(2.0 * tail * (1.0 - rest))
+    )
+    return out
 
 
 @dataclass(frozen=True)
@@ -251,10 +359,14 @@ class UncertainParameters:
         parameters: the random parameters, sorted by path (``k`` of them).
         correlation: ``[k, k]`` correlation of their standard normal numbers, symmetric
             positive definite (the identity when none is given).
+        test_tails: where the central ranges of the training draws end and the tails of
+            the test draws begin, in standard deviations of the standard normal numbers
+            (None: every record draws from the whole distributions).
     """
 
     parameters: tuple[RandomParameter, ...]
     correlation: np.ndarray
+    test_tails: float | None = None
 
     @classmethod
     def of(
@@ -262,9 +374,11 @@ class UncertainParameters:
         params: Mapping[str, Any],
         correlations: Sequence[tuple[str, str, float]] = (),
         where: str = "structure",
+        test_tails: float | None = None,
     ) -> UncertainParameters:
         """The random parameters of the structure's table ``params`` with the
-        ``correlations`` ``(path, path, rho)`` between pairs of them.
+        ``correlations`` ``(path, path, rho)`` between pairs of them (and ``test_tails``,
+        see the class).
 
         Raises:
             ConfigError: a distribution is invalid (:func:`random_parameters`), a
@@ -296,7 +410,7 @@ class UncertainParameters:
                 "uncertainty.correlations: the correlations do not form a positive-definite "
                 "matrix (no joint distribution has them)"
             ) from None
-        return cls(parameters, correlation)
+        return cls(parameters, correlation, test_tails)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -312,20 +426,30 @@ class UncertainParameters:
         """Path -> the median of each parameter's distribution."""
         return {p.path: p.distribution.nominal for p in self.parameters}
 
-    def draw(self, n: int, seed: int) -> np.ndarray:
+    def draw(self, n: int, seed: int, n_central: int | None = None) -> np.ndarray:
         """``[n, k]`` float64 draws, one row a record, in the parameters' units.
 
         The stream is ``numpy.random.SeedSequence(seed, spawn_key=(PARAMETER_STREAM,))``;
         record ``i`` takes the ``i``-th ``k`` standard normal numbers, correlated by the
         Cholesky factor of :attr:`correlation`, so a record's draw does not depend on ``n``.
+        With :attr:`test_tails` and ``n_central`` (the training and validation records,
+        the first), each of those numbers is carried, rank kept, into its central range
+        for the first ``n_central`` records and into its tails for the others
+        (:func:`into_regions`).
         """
         k = len(self.parameters)
         rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(PARAMETER_STREAM,)))
         z = rng.standard_normal((n, k)) @ np.linalg.cholesky(self.correlation).T
+        if self.test_tails is not None and n_central is not None:
+            z = into_regions(z, n_central, self.test_tails)
         draws = np.empty((n, k))
         for j, parameter in enumerate(self.parameters):
             draws[:, j] = parameter.distribution.values(z[:, j])
         return draws
+
+    def columns(self, draws: np.ndarray) -> dict[str, np.ndarray]:
+        """Path -> ``[n]`` values of draws ``[n, k]``."""
+        return {name: draws[:, j] for j, name in enumerate(self.names)}
 
     def values_of(self, row: np.ndarray) -> dict[str, float]:
         """Path -> value of one draw ``row [k]``."""

@@ -171,6 +171,21 @@ class Dataset:
             )
         return np.asarray(self.extras[ACCELERATION_EXTRA][self.rows(split)], dtype=np.float64)
 
+    def parameter_draws(self, split: str) -> dict[str, np.ndarray]:
+        """Parameter path -> ``[n]`` the split's records' draws of each random structural
+        parameter, in its unit (empty for a fixed structure); the records of
+        :meth:`rows`."""
+        return self.draws_of(self.rows(split))
+
+    def draws_of(self, rows: np.ndarray) -> dict[str, np.ndarray]:
+        """Parameter path -> ``[len(rows)]`` the draws of the records ``rows``."""
+        return {name: self.params[rows, j] for j, name in enumerate(self.param_names)}
+
+    @property
+    def parameter_units(self) -> dict[str, str]:
+        """Parameter path -> its unit label (empty where none)."""
+        return dict(zip(self.param_names, self.param_units, strict=True))
+
     def physics(self, preprocessor: str, split: str) -> np.ndarray:
         if preprocessor not in self.z:
             raise DatasetError(

@@ -37,7 +37,7 @@ from ..api.interfaces import GroundMotionSource, Structure
 from ..api.registry import get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig
-from ..config.uncertainty import UncertainParameters, with_values
+from ..config.uncertainty import UncertainParameters, distinct_draws, with_values
 from ..signals import GroundMotions
 from ..signals.errors import ConfigError, CphysfnoError, CphysfnoWarning, DatasetError
 from ..signals.progress import show_progress, time_left
@@ -290,8 +290,8 @@ def check_draws(config: ExperimentConfig, space: UncertainParameters, draws: np.
     spec = config.structure.to_dict()
     name = spec.pop("name")
     registry = get_registry()
-    distinct, first = np.unique(draws, axis=0, return_index=True)
-    for row, record in zip(distinct, first, strict=True):
+    for row, records in distinct_draws(draws):
+        record = records[0]
         values = space.values_of(row)
         try:
             registry.create("structure", name, **with_values(spec, values))
@@ -323,7 +323,8 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     for pp in config.preprocessor:  # fail on a missing capability before any simulation
         get_registry().create("preprocessor", pp.name, **pp.params).fit(structure)
     space = config.uncertain_parameters()
-    draws = space.draw(config.data.n_records, config.data.seed)
+    central = config.data.n_train + config.data.n_val
+    draws = space.draw(config.data.n_records, config.data.seed, n_central=central)
     check_draws(config, space, draws)
     parts = parts_folder(path)
     motions, chunk = _start(config, parts, identity)

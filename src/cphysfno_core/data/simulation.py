@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..api.registry import get_registry
-from ..config.uncertainty import with_values
+from ..config.uncertainty import distinct_draws, with_values
 from ..signals import GroundMotions
 from ..signals.errors import PluginError
 
@@ -144,11 +144,9 @@ def simulate_chunk(
     motions = GroundMotions(acceleration, dt)
     if not parameters:
         return _simulate(_Parts(structure_spec, preprocessor_specs), motions)
-    distinct, which = np.unique(draws, axis=0, return_inverse=True)
     pieces = []
-    for d, row in enumerate(distinct):
+    for row, rows in distinct_draws(draws):
         spec = with_values(structure_spec, dict(zip(parameters, row, strict=True)))
-        rows = np.flatnonzero(which.ravel() == d)
         pieces.append((rows, _simulate(_Parts(spec, preprocessor_specs), motions[rows])))
     return _gather(pieces, motions.n_records)
 
@@ -171,12 +169,13 @@ def _simulate(parts: _Parts, motions: GroundMotions) -> ChunkResult:
 def _gather(pieces: list[tuple[np.ndarray, ChunkResult]], n: int) -> ChunkResult:
     """One result of ``n`` records from the results of groups of them, each with its
     record indices ``[m]``; an extra channel a group lacks (all its records failed) is NaN
-    there."""
+    there (False for a flag)."""
 
     def place(pick) -> np.ndarray:
         known = [(rows, pick(result)) for rows, result in pieces if pick(result) is not None]
         template = known[0][1]
-        out = np.full((n, *template.shape[1:]), np.nan, dtype=template.dtype)
+        blank = False if template.dtype == bool else np.nan
+        out = np.full((n, *template.shape[1:]), blank, dtype=template.dtype)
         for rows, values in known:
             out[rows] = values
         return out

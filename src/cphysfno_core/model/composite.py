@@ -24,6 +24,7 @@ from ..api.registry import get_registry
 from ..config.allocator import tune_memory
 from ..config.experiment import ComponentSpec, FormulationConfig, TrainingConfig
 from ..config.precision import Precision, operator_precision
+from ..config.uncertainty import distinct_draws, value_at, with_values
 from ..signals import GroundMotions, TimeGrid, as_ground_motions
 from ..signals.errors import (
     ConfigError,
@@ -33,6 +34,7 @@ from ..signals.errors import (
 from ..signals.intensity import peak_ground_acceleration
 from .extrapolation import warn_extrapolation
 from .labels import ModelLabel
+from .parameters import ParameterScale, ParameterValues
 from .parts import PartLike, resolve
 from .persistence import load_model, save_model
 from .training import (
@@ -49,7 +51,7 @@ PREDICT_CHUNK = 8
 record at the paper's sizes) stay small and are reused from chunk to chunk."""
 
 
-def _rows_of(array: np.ndarray | None, rows: slice) -> np.ndarray | None:
+def _rows_of(array: np.ndarray | None, rows: slice | np.ndarray) -> np.ndarray | None:
     return None if array is None else array[rows]
 
 
@@ -77,6 +79,12 @@ class CompositeModel:
     Construction stores the parts (and checks that the structure has the capabilities
     the preprocessor requires); :meth:`fit` fits the preprocessor to the structure and
     trains. Build one with :func:`~cphysfno_core.compose`; :meth:`save` / :meth:`load`.
+
+    A model fitted with ``params`` (each training record's values of the structure's
+    random parameters) is a model of a family of structures: at prediction each record's
+    ``params`` rebuild its structure for its physics response, and with
+    ``formulation.parameter_input`` they also enter the operator as constant input
+    channels (see :mod:`.parameters`).
     """
 
     def __init__(
@@ -100,11 +108,12 @@ class CompositeModel:
                 "residual and ground_motion_input work on a physics response: the baseline "
                 "operator has none (it always sees a_g)"
             )
-        if self.formulation.residual == "choose":
-            raise ConfigError(
-                "formulation.residual = 'choose' is for a run, which trains both forms: "
-                "a model takes true or false"
-            )
+        for field, value in (("residual", "choose"), ("parameter_input", "both")):
+            if getattr(self.formulation, field) == value:
+                raise ConfigError(
+                    f"formulation.{field} = '{value}' is for a run, which trains both forms: "
+                    "a model takes true or false"
+                )
         if isinstance(operator, NeuralOperator):
             self.operator_spec = ComponentSpec.of(operator.name, operator.get_params())
             self.operator_ = operator
@@ -123,27 +132,96 @@ class CompositeModel:
             preprocessor,
             refined=self.refiner is not None,
             residual=bool(self.formulation.residual),
+            parameters=bool(self.formulation.parameter_input),
         )
         return str(label)
 
     # -- features --------------------------------------------------------------------
-    def physics(self, motions: GroundMotions) -> np.ndarray | None:
-        """``[n, T, dof]`` intermediate response z in m (None for the baseline)."""
+    @property
+    def parameters(self) -> ParameterScale | None:
+        """The structural parameters this model takes (None: a model of one structure)."""
+        return getattr(self, "parameters_", None)
+
+    def physics(
+        self, motions: GroundMotions, params: ParameterValues | None = None
+    ) -> np.ndarray | None:
+        """``[n, T, dof]`` intermediate response z in m (None for the baseline); for a
+        model of a family, each record's from the structure of its ``params`` (see
+        :meth:`predict_stages`)."""
+        return self._physics(motions, self._parameter_values(params, motions.n_records))
+
+    def _physics(self, motions: GroundMotions, values: np.ndarray | None) -> np.ndarray | None:
+        """:meth:`physics` at the parameter values ``[n, k]`` (None: the structure's
+        own): the preprocessor fitted anew to the structure of each distinct draw."""
         if self.preprocessor is None:
             return None
-        return self.preprocessor.transform(motions)
+        if values is None:
+            return self.preprocessor.transform(motions)
+        registry = get_registry()
+        table = self.structure.get_params()
+        z = np.empty((*motions.acceleration.shape, self.structure.n_outputs))
+        for row, rows in distinct_draws(values):
+            drawn = dict(zip(self.parameters.names, row.tolist(), strict=True))
+            member = with_values(table, drawn)
+            structure = registry.create("structure", self.structure.name, **member)
+            preprocessor = registry.create(
+                "preprocessor", self.preprocessor.name, **self.preprocessor.get_params()
+            )
+            z[rows] = preprocessor.fit(structure).transform(motions[rows])
+        return z
 
-    def _inputs(self, motions: GroundMotions, z: np.ndarray | None) -> np.ndarray:
+    def _parameter_values(self, params: ParameterValues | None, n: int) -> np.ndarray | None:
+        """``[n, k]`` each record's parameter values (those ``params`` leaves out at the
+        structure's own), or None for a model of one structure.
+
+        Raises:
+            InputError: ``params`` given to a model of one structure, or invalid
+                (:meth:`ParameterScale.values`).
+        """
+        if self.parameters is None:
+            if params:
+                raise InputError(
+                    f"model '{self.label}' was trained on one structure: it takes no params "
+                    "(fit it with each training record's params to make a model of a family)"
+                )
+            return None
+        return self.parameters.values(params, n, self._nominal())
+
+    def _nominal(self) -> dict[str, float]:
+        """Parameter path -> the value of the model's own structure (none without one)."""
+        if self.structure is None:
+            return {}
+        table = self.structure.get_params()
+        return {name: value_at(table, name) for name in self.parameters.names}
+
+    def _channels(self, values: np.ndarray | None) -> np.ndarray | None:
+        """``[n, k]`` the standardised parameter input channels, or None for a model
+        without them."""
+        if values is None or not self.formulation.parameter_input:
+            return None
+        return self.parameters.encode(values)
+
+    def _inputs(
+        self,
+        motions: GroundMotions,
+        z: np.ndarray | None,
+        channels: np.ndarray | None = None,
+    ) -> np.ndarray:
         """Operator input ``[n, T, channels]``: ``[a_g, t]`` for the baseline, ``[z, t]``
-        for a C-Phys model, ``[z, a_g, t]`` with ``formulation.ground_motion_input``."""
+        for a C-Phys model, ``[z, a_g, t]`` with ``formulation.ground_motion_input``; the
+        standardised parameter ``channels [n, k]``, constant in time, before ``t`` with
+        ``formulation.parameter_input``."""
         ag = motions.acceleration[:, :, None]
         if z is not None and z.shape[:2] != ag.shape[:2]:
             raise InputError(f"physics response {z.shape} does not match motions {ag.shape[:2]}")
-        channels = [ag] if z is None else [z]
+        channels_in = [ag] if z is None else [z]
         if z is not None and self.formulation.ground_motion_input:
-            channels.append(ag)
-        channels.append(np.broadcast_to(motions.time[None, :, None], ag.shape))
-        return np.concatenate(channels, axis=2)
+            channels_in.append(ag)
+        if channels is not None:
+            shape = (*ag.shape[:2], channels.shape[1])
+            channels_in.append(np.broadcast_to(channels[:, None, :], shape))
+        channels_in.append(np.broadcast_to(motions.time[None, :, None], ag.shape))
+        return np.concatenate(channels_in, axis=2)
 
     def _target(
         self, u: np.ndarray, z: np.ndarray | None, acceleration: np.ndarray | None
@@ -216,6 +294,9 @@ class CompositeModel:
         validation_z: np.ndarray | None = None,
         acceleration: np.ndarray | None = None,
         validation_acceleration: np.ndarray | None = None,
+        params: ParameterValues | None = None,
+        validation_params: ParameterValues | None = None,
+        param_units: dict[str, str] | None = None,
         progress: Callable[[EpochReport], None] | None = print_progress,
         checkpoint: str | Path | None = None,
         resume: bool = False,
@@ -234,6 +315,12 @@ class CompositeModel:
             acceleration, validation_acceleration: the absolute accelerations ``[n, T,
                 dof]`` (m/s^2) of the training and validation records, for a model that
                 learns them (``formulation.accelerations``).
+            params, validation_params: for a model of a family of structures, each
+                record's values of the structure's random parameters (path -> ``[n]``
+                values, in the parameters' units; the same paths in both); they rebuild
+                each record's structure for its physics response unless ``z`` is given,
+                and enter the operator with ``formulation.parameter_input``.
+            param_units: path -> unit label of each parameter, for reports.
             progress: per-epoch callback (None for silence).
             checkpoint: file to write after every epoch (see :func:`train_operator`).
             resume: continue from ``checkpoint`` where an interrupted fit stopped.
@@ -247,12 +334,16 @@ class CompositeModel:
         if overrides:
             self.training = self.training.model_copy(update=overrides)
             TrainingConfig.model_validate(self.training.model_dump())
+        values, val_values = self._fit_parameters(
+            params, validation_params, param_units, motions.n_records, val_motions.n_records
+        )
         if self.preprocessor is not None:
             self.preprocessor.fit(self.structure)
-            z = self.physics(motions) if z is None else z
-            validation_z = self.physics(val_motions) if validation_z is None else validation_z
-        x_train = self._inputs(motions, z)
-        x_val = self._inputs(val_motions, validation_z)
+            z = self._physics(motions, values) if z is None else z
+            if validation_z is None:
+                validation_z = self._physics(val_motions, val_values)
+        x_train = self._inputs(motions, z, self._channels(values))
+        x_val = self._inputs(val_motions, validation_z, self._channels(val_values))
         target = self._target(u, z, acceleration)
         fit_normalizer = Normalizer.fit if self.training.normalize else Normalizer.identity
         self.input_normalizer_ = fit_normalizer(x_train)
@@ -297,6 +388,37 @@ class CompositeModel:
             self.refiner.fit(z_fit, u_hat, u_fit, rng)
         return self
 
+    def _fit_parameters(
+        self,
+        params: ParameterValues | None,
+        validation_params: ParameterValues | None,
+        units: dict[str, str] | None,
+        n: int,
+        n_validation: int,
+    ) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """Learn the parameters' scale from the training records' ``params``; their
+        values ``[n, k]`` and the validation records' (None, None for one structure)."""
+        if not params:
+            if self.formulation.parameter_input:
+                raise ConfigError(
+                    "formulation.parameter_input: give each training and validation record's "
+                    "structural parameters (params, validation_params)"
+                )
+            if validation_params:
+                raise ConfigError("validation_params given without the training records' params")
+            self.parameters_ = None
+            return None, None
+        if not validation_params or set(validation_params) != set(params):
+            raise ConfigError(
+                f"give validation_params with the same parameters as params: {', '.join(params)}"
+            )
+        self.parameters_ = ParameterScale.fit(params, n, units)
+        nominal: dict[str, float] = {}
+        return (
+            self.parameters_.values(params, n, nominal),
+            self.parameters_.values(validation_params, n_validation, nominal),
+        )
+
     def refine(
         self,
         refiner: PartLike,
@@ -304,18 +426,22 @@ class CompositeModel:
         u: np.ndarray,
         z: np.ndarray | None = None,
         seed: int | None = None,
+        params: ParameterValues | None = None,
     ) -> CompositeModel:
         """A copy of this trained model with ``refiner`` fitted on ``(motions, u)``: the
         training split, or the validation split for a refiner whose
-        ``calibration_split`` is ``"validation"``."""
+        ``calibration_split`` is ``"validation"``; ``params`` as in
+        :meth:`predict_stages`."""
         self._check_fitted()
         if self.preprocessor is None:
             raise ConfigError("a refiner works on the physics response z: the baseline has none")
         self._check_grid(motions)
         refined = copy.copy(self)
         refined.refiner = resolve("refiner", refiner)
-        z = self.physics(motions) if z is None else z
-        u_hat = self._run_operator(self._inputs(motions, z), z)[:, :, : self._displacements]
+        values = self._parameter_values(params, motions.n_records)
+        z = self._physics(motions, values) if z is None else z
+        inputs = self._inputs(motions, z, self._channels(values))
+        u_hat = self._run_operator(inputs, z)[:, :, : self._displacements]
         rng = np.random.default_rng(self.training.seed if seed is None else seed)
         refined.refiner.fit(z, u_hat, self._check_targets(motions, u, "u"), rng)
         return refined
@@ -421,12 +547,19 @@ class CompositeModel:
         motions: GroundMotions | np.ndarray,
         z: np.ndarray | None = None,
         *,
+        params: ParameterValues | None = None,
         precision: Precision = "float32",
         dt: float | None = None,
     ) -> Prediction:
         """Every stage of the prediction for ``motions`` (z may be given precomputed):
         :class:`GroundMotions`, or a NumPy array ``[n, T]`` (or ``[T]``) of ground
         accelerations in m/s^2 with its time step ``dt`` in s.
+
+        A model of a family of structures (see :attr:`parameters`) takes each record's
+        structural ``params``: path -> ``[n]`` values (or one value for every record) in
+        the parameters' units; a parameter left out takes the value of the model's own
+        structure (the distributions' medians in a run). Values outside the training
+        draws' range are predicted with an :class:`ExtrapolationWarning`.
 
         The operator runs on chunks of :data:`PREDICT_CHUNK` records whose inputs are built
         one chunk at a time; beyond the returned arrays, memory use does not grow with the
@@ -437,21 +570,27 @@ class CompositeModel:
 
         Raises:
             InputError: ``precision`` is neither ``"float32"`` nor ``"bfloat16"``;
-                ``motions`` are neither ground motions nor an array with its ``dt``.
+                ``motions`` are neither ground motions nor an array with its ``dt``;
+                ``params`` given to a model of one structure, naming a parameter the model
+                does not know, or of another length than the records.
         """
         self._check_fitted()
         motions = as_ground_motions(motions, dt)
         self._check_grid(motions)
         warn_extrapolation(motions, getattr(self, "training_pga_", None), self.label)
+        values = self._parameter_values(params, motions.n_records)
+        if values is not None:
+            self.parameters.warn_outside(values, self.label)
         if self.preprocessor is not None and z is None:
-            z = self.physics(motions)
+            z = self._physics(motions, values)
         shape = motions.acceleration.shape
         if z is not None and z.shape[:2] != shape:
             raise InputError(f"physics response {z.shape} does not match motions {shape}")
+        channels = self._channels(values)
         output = self._operator_chunks(
             shape[0],
             shape[1],
-            lambda rows: self._inputs(motions[rows], _rows_of(z, rows)),
+            lambda rows: self._inputs(motions[rows], _rows_of(z, rows), _rows_of(channels, rows)),
             z,
             precision,
         )
@@ -469,12 +608,13 @@ class CompositeModel:
         self,
         motions: GroundMotions | np.ndarray,
         *,
+        params: ParameterValues | None = None,
         precision: Precision = "float32",
         dt: float | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Predicted displacement ``(mean, std)``, each ``[n, T, dof]`` in m; ``motions``,
-        ``precision`` and ``dt`` as in :meth:`predict_stages`."""
-        stages = self.predict_stages(motions, precision=precision, dt=dt)
+        ``params``, ``precision`` and ``dt`` as in :meth:`predict_stages`."""
+        stages = self.predict_stages(motions, params=params, precision=precision, dt=dt)
         return stages.mean, stages.std
 
     def save(self, directory: str | Path) -> Path:

@@ -3,7 +3,8 @@
 
 A label reads, from the inside out: the operator's name alone for the baseline (``fno``);
 ``c-phys<operator>-<preprocessor>`` for a C-Phys model (``c-physfno-els``); ``-residual``
-behind it for the residual formulation; ``refined-`` in front when refined. The physics
+behind it for the residual formulation; ``-params`` behind that for a model that takes the
+structure's parameters as inputs; ``refined-`` in front when refined. The physics
 response of a preprocessor alone, untrained, has the row ``physics-<preprocessor>``.
 """
 
@@ -16,6 +17,7 @@ from ..api.registry import get_registry
 
 COMPOSITE = "c-phys"
 RESIDUAL = "-residual"
+PARAMETERS = "-params"
 REFINED = "refined-"
 PHYSICS = "physics-"
 
@@ -30,18 +32,23 @@ class ModelLabel:
         preprocessor: the physics preprocessor's registry name; None for the baseline.
         refined: whether a refiner gives the model its intervals.
         residual: whether the operator learns the residual ``u - z``.
+        parameters: whether the operator takes the structure's parameters as inputs.
     """
 
     operator: str | None
     preprocessor: str | None = None
     refined: bool = False
     residual: bool = False
+    parameters: bool = False
 
     def __post_init__(self) -> None:
         if not (self.operator or self.preprocessor):
             raise ValueError("a model label names an operator, a preprocessor or both")
-        if self.operator is None and (self.refined or self.residual):
-            raise ValueError("a physics preprocessor alone is neither refined nor residual")
+        if self.operator is None and (self.refined or self.residual or self.parameters):
+            raise ValueError(
+                "a physics preprocessor alone is neither refined nor residual, and takes no "
+                "parameter inputs"
+            )
 
     @classmethod
     def physics(cls, preprocessor: str) -> ModelLabel:
@@ -66,12 +73,14 @@ class ModelLabel:
         body = text
         refined = body.startswith(REFINED)
         body = body.removeprefix(REFINED)
+        parameters = body.endswith(PARAMETERS)
+        body = body.removesuffix(PARAMETERS)
         residual = body.endswith(RESIDUAL)
         body = body.removesuffix(RESIDUAL)
         if body.startswith(PHYSICS):
-            return cls(None, body.removeprefix(PHYSICS) or None, refined, residual)
+            return cls(None, body.removeprefix(PHYSICS) or None, refined, residual, parameters)
         if not body.startswith(COMPOSITE):
-            return cls(body or None, None, refined, residual)
+            return cls(body or None, None, refined, residual, parameters)
         parts = body.removeprefix(COMPOSITE)
         names = get_registry().names("operator") if operators is None else operators
         fitting = [name for name in names if parts.startswith(f"{name}-")]
@@ -79,7 +88,7 @@ class ModelLabel:
         preprocessor = parts.removeprefix(f"{operator}-")
         if not operator or not preprocessor or preprocessor == parts:
             raise ValueError(f"'{text}' is no model label: c-phys<operator>-<preprocessor>")
-        return cls(operator, preprocessor, refined, residual)
+        return cls(operator, preprocessor, refined, residual, parameters)
 
     def __str__(self) -> str:
         if self.operator is None:
@@ -88,6 +97,7 @@ class ModelLabel:
         if self.preprocessor is not None:
             label = f"{COMPOSITE}{self.operator}-{self.preprocessor}"
         label += RESIDUAL if self.residual else ""
+        label += PARAMETERS if self.parameters else ""
         return f"{REFINED}{label}" if self.refined else label
 
     @property

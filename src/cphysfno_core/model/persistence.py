@@ -20,11 +20,14 @@ from ..api.registry import get_registry
 from ..config.experiment import FormulationConfig, TrainingConfig
 from ..signals import TimeGrid
 from ..signals.errors import DatasetError, PluginError
+from .parameters import ParameterScale
 from .training import Normalizer, TrainingHistory
 
 FORMAT = "cphysfno-composite"
 FORMAT_VERSION = 1
 SAVED_ARRAYS = ("input_mean", "input_std", "output_mean", "output_std", "validation_rmse")
+PARAMETERS = "parameters."
+"""The prefix of a family model's parameter scale in ``arrays.npz``."""
 
 
 class SavedGrid(BaseModel):
@@ -53,6 +56,11 @@ class SavedModel(BaseModel):
     history: dict[str, Any] = Field(default_factory=dict)
     grid: SavedGrid | None = None
     training_pga: tuple[float, float] | None = None
+    parameters: dict[str, Any] | None = Field(
+        None,
+        description="a model of a family of structures: the names and units of the "
+        "structural parameters it takes (their scale is in arrays.npz)",
+    )
     providers: dict[str, str] = Field(
         default_factory=dict,
         description="kind -> the distribution (name and version) that provided the part",
@@ -120,6 +128,7 @@ def save_model(model: Any, directory: str | Path) -> Path:
         "history": model.history_.to_dict(),
         "grid": None if model.grid is None else dataclasses.asdict(model.grid),
         "training_pga": getattr(model, "training_pga_", None),
+        "parameters": None if model.parameters is None else model.parameters.description(),
         "providers": _providers(model),
     }
     arrays = {
@@ -131,6 +140,8 @@ def save_model(model: Any, directory: str | Path) -> Path:
     }
     if model.refiner is not None:
         arrays.update({f"refiner.{k}": v for k, v in model.refiner.state_dict().items()})
+    if model.parameters is not None:
+        arrays.update({f"{PARAMETERS}{k}": v for k, v in model.parameters.arrays().items()})
     torch.save(model.operator_.state_dict(), directory / "operator.pt")
     np.savez(directory / "arrays.npz", **arrays)
     (directory / "model.json").write_text(json.dumps(description, indent=2))
@@ -209,6 +220,16 @@ def load_model(directory: str | Path, factory: Callable[..., Any]) -> Any:
     if saved.grid is not None:
         model.grid_ = TimeGrid(saved.grid.dt, saved.grid.n_steps)
     model.training_pga_ = saved.training_pga
+    model.parameters_ = None
+    if saved.parameters is not None:
+        scale = {k[len(PARAMETERS) :]: v for k, v in arrays.items() if k.startswith(PARAMETERS)}
+        try:
+            model.parameters_ = ParameterScale.restore(saved.parameters, scale)
+        except (KeyError, TypeError) as error:
+            raise DatasetError(
+                f"{directory}: the scale of the model's structural parameters is incomplete "
+                f"({error})"
+            ) from None
     if model.refiner is not None:
         prefix = "refiner."
         model.refiner.load_state_dict(

@@ -6,11 +6,14 @@ as ``.npy`` (``[N, T]`` or ``[T]``, with the step and the unit given separately)
 unit of :data:`ACCELERATION_UNITS` (m/s^2 with a warning where none is said), or as AT2
 records (g). The output ``.npz`` holds ``mean`` and ``std`` ``[N, T, dof]`` in m, the
 operator output, ``z`` for a C-Phys model, ``acceleration`` (m/s^2) for a model that
-learns it, ``dt`` and ``output_names``.
+learns it, ``dt`` and ``output_names``. A model of a family of structures takes each
+record's structural parameters from a CSV file (:func:`read_parameters`); the file then
+also holds them (``params``, ``param_names``).
 """
 
 from __future__ import annotations
 
+import csv
 import json
 import time
 import warnings
@@ -33,6 +36,8 @@ PREDICTION_ARRAYS = {
         "m/s^2",
         "predicted absolute acceleration [record, sample, output] (a model that learns it)",
     ],
+    "params": ["", "structural parameters [record, parameter] given, in their units"],
+    "param_names": ["", "the parameters' dotted paths, in the order of params' last axis"],
     "dt": ["s", "time step of the records"],
     "output_names": ["", "names of the outputs, in the order of the last axis"],
 }
@@ -183,6 +188,43 @@ def _factor(path: Path, unit: str | None) -> float:
     return ACCELERATION_UNITS[_unit_name(unit)]
 
 
+def read_parameters(path: str | Path) -> dict[str, np.ndarray]:
+    """Structural parameters from a CSV file: a header of parameter paths
+    (``stiffnesses.0``), then rows of numbers, one a record (or one for every record).
+
+    Returns:
+        path -> ``[rows]`` float64 values (a one-row file gives one value each).
+
+    Raises:
+        DatasetError: the file is missing, has no header or no row, a row of another
+            length, a name twice, or a cell that is no number.
+    """
+    path = Path(path)
+    try:
+        with path.open(newline="") as stream:
+            rows = [row for row in csv.reader(stream) if any(cell.strip() for cell in row)]
+    except OSError as error:
+        raise DatasetError(f"{path}: cannot read the parameters ({error})") from None
+    if len(rows) < 2:
+        raise DatasetError(
+            f"{path}: give a header of parameter paths and at least one row of values"
+        )
+    header = [cell.strip() for cell in rows[0]]
+    if len(set(header)) != len(header) or not all(header):
+        raise DatasetError(f"{path}: the header must name each parameter once: {header}")
+    values = np.empty((len(rows) - 1, len(header)))
+    for i, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise DatasetError(f"{path}, line {i}: {len(row)} values for {len(header)} names")
+        try:
+            values[i - 2] = [float(cell) for cell in row]
+        except ValueError:
+            raise DatasetError(f"{path}, line {i}: a value is not a number: {row}") from None
+    if values.shape[0] == 1:
+        return {name: values[0, j] for j, name in enumerate(header)}
+    return {name: values[:, j] for j, name in enumerate(header)}
+
+
 @dataclass
 class PredictionRun:
     """What :func:`predict_file` did: records, seconds of prediction (physics, operator and
@@ -205,6 +247,7 @@ def predict_file(
     device: str = "auto",
     precision: Precision = "float32",
     units: str | None = None,
+    params: str | Path | None = None,
 ) -> PredictionRun:
     """Load the model in ``model_dir``, predict the motions of ``motions_path`` and write
     ``out`` (``.npz``).
@@ -216,18 +259,24 @@ def predict_file(
         precision: the operator's arithmetic, ``"float32"`` or ``"bfloat16"`` (see
             :meth:`CompositeModel.predict_stages`).
         units: the unit of the motions in the file (see :func:`read_motions`).
+        params: a CSV file of each record's structural parameters, for a model of a
+            family of structures (see :func:`read_parameters`).
 
     Raises:
-        InputError: ``out`` is not an ``.npz`` name, or the motions are on another grid
-            than the model's and ``on_grid`` is off (see :meth:`CompositeModel.grid`).
+        InputError: ``out`` is not an ``.npz`` name, the motions are on another grid
+            than the model's and ``on_grid`` is off (see :meth:`CompositeModel.grid`), or
+            the parameters do not fit the model or the records
+            (:meth:`CompositeModel.predict_stages`).
+        DatasetError: a file is missing or malformed.
     """
     out = Path(out)
     if out.suffix != ".npz":
         raise InputError(f"--out {out}: name an .npz file")
     model = CompositeModel.load(model_dir).to(device)
     motions = read_motions(motions_path, dt, model.grid if on_grid else None, units)
+    given = None if params is None else read_parameters(params)
     started = time.perf_counter()
-    stages = model.predict_stages(motions, precision=precision)
+    stages = model.predict_stages(motions, params=given, precision=precision)
     seconds = time.perf_counter() - started
     names = list(model.structure.output_names) if model.structure is not None else []
     names = names or [f"output-{k}" for k in range(stages.mean.shape[2])]
@@ -242,6 +291,11 @@ def predict_file(
         arrays["z"] = stages.z
     if stages.acceleration is not None:
         arrays["acceleration"] = stages.acceleration
+    if given:
+        arrays["params"] = np.column_stack(
+            [np.broadcast_to(v, motions.n_records) for v in given.values()]
+        )
+        arrays["param_names"] = np.array(list(given))
     described = {k: v for k, v in PREDICTION_ARRAYS.items() if k in arrays}
     arrays["descriptions"] = np.array(json.dumps({**described, "model": model.label}))
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -8,14 +8,16 @@ from ..signals import GroundMotions, Responses
 from ..signals.errors import CphysfnoError
 from ..signals.histories import ACCELERATION_EXTRA
 from .composite import CompositeModel
+from .parameters import ParameterValues
 
 
 def predict_skipping_failures(
-    model: CompositeModel, motions: GroundMotions
+    model: CompositeModel, motions: GroundMotions, params: ParameterValues | None = None
 ) -> tuple[Responses, dict[int, str]]:
     """The predicted mean displacement ``[n, T, n_outputs]`` (m) of every record, with the
     predicted absolute accelerations (extra ``absolute_acceleration``, m/s^2) of a model
-    that learns them, and the records it could not predict.
+    that learns them, and the records it could not predict; ``params``: each record's
+    structural parameters, for a model of a family (path -> ``[n]`` values).
 
     The records are predicted together; if that fails (the physics input of one record
     holds NaN, say), one by one. A record whose prediction raises a package error or is
@@ -25,11 +27,12 @@ def predict_skipping_failures(
         ``(responses, failures)``: ``failures`` maps the index of each failed record in
         ``motions`` to the reason.
     """
+    params = {name: np.broadcast_to(v, motions.n_records) for name, v in (params or {}).items()}
     try:
-        channels = _channels(model, motions)
+        channels = _channels(model, motions, params)
         failures: dict[int, str] = {}
     except CphysfnoError:
-        channels, failures = _one_by_one(model, motions)
+        channels, failures = _one_by_one(model, motions, params)
     for values in channels.values():
         for i in np.flatnonzero(~np.isfinite(values).all(axis=(1, 2))):
             failures.setdefault(int(i), "the prediction is not finite")
@@ -39,8 +42,10 @@ def predict_skipping_failures(
     return Responses(mean, motions.dt, extras=channels), dict(sorted(failures.items()))
 
 
-def _channels(model: CompositeModel, motions: GroundMotions) -> dict[str, np.ndarray]:
-    stages = model.predict_stages(motions)
+def _channels(
+    model: CompositeModel, motions: GroundMotions, params: dict[str, np.ndarray]
+) -> dict[str, np.ndarray]:
+    stages = model.predict_stages(motions, params=params)
     found = {"displacement": np.array(stages.mean, dtype=np.float64)}
     if stages.acceleration is not None:
         found[ACCELERATION_EXTRA] = np.array(stages.acceleration, dtype=np.float64)
@@ -48,13 +53,14 @@ def _channels(model: CompositeModel, motions: GroundMotions) -> dict[str, np.nda
 
 
 def _one_by_one(
-    model: CompositeModel, motions: GroundMotions
+    model: CompositeModel, motions: GroundMotions, params: dict[str, np.ndarray]
 ) -> tuple[dict[str, np.ndarray], dict[int, str]]:
     parts: list[dict[str, np.ndarray] | None] = []
     failures = {}
     for i in range(motions.n_records):
         try:
-            parts.append(_channels(model, motions[i]))
+            own = {name: values[i : i + 1] for name, values in params.items()}
+            parts.append(_channels(model, motions[i], own))
         except CphysfnoError as error:
             parts.append(None)
             failures[i] = str(error)

@@ -420,3 +420,24 @@ def learning_curve(
         ax.set_title(key)
         ax.legend(fontsize=7)
     return _save(fig, path)
+
+
+def parameter_draws(
+    draws: dict[str, np.ndarray], names: list[str], units: list[str], path: Path
+) -> Path:
+    """Histograms of random structural parameters' draws: one panel a parameter, one
+    colour a group of records (``draws``: group name -> ``[n, k]``, the columns in the
+    order of ``names``, each in its unit of ``units``)."""
+    k = len(names)
+    fig, axes = _subplots(1, k, figsize=(3.2 * k, 2.8), squeeze=False)
+    every = np.concatenate(list(draws.values()))
+    for j, (ax, name, unit) in enumerate(zip(axes[0], names, units, strict=True)):
+        low, high = every[:, j].min(), every[:, j].max()
+        bins = np.linspace(low, high, 16) if high > low else 1
+        for group, values in draws.items():
+            ax.hist(values[:, j], bins=bins, alpha=0.5, label=group)
+        ax.set_xlabel(name + (f" ({unit})" if unit else ""))
+        ax.set_ylabel("records")
+    axes[0][0].legend(fontsize=8)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return _save(fig, path)

@@ -14,6 +14,7 @@ SOURCES = {
     "simulation": {"color": "black", "linestyle": "-"},
     "surrogate": {"color": "tab:blue", "linestyle": "--"},
     "surrogate-large": {"color": "tab:orange", "linestyle": ":"},
+    "surrogate-large-medians": {"color": "tab:green", "linestyle": "-."},
 }
 """How each source of a curve is drawn."""
 
@@ -28,8 +29,9 @@ def plot_fragility(
     the test records' intensities as ticks along the bottom.
 
     Args:
-        curves: limit state name -> source (simulation, surrogate, surrogate-large) ->
-            fragility (none for a limit state no source could fit).
+        curves: limit state name -> source (simulation, surrogate, surrogate-large,
+            surrogate-large-medians) -> fragility (none for a limit state no source could
+            fit).
         intensities: ``[n]`` the test records' intensity measures.
         intensity_label: the measure with its unit, for the axis.
         path: the PNG to write.

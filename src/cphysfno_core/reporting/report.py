@@ -19,6 +19,7 @@ from .baselines import describe_beaten
 from .edp import ACCELERATION_EXTRA
 from .evaluation import Evaluation
 from .paper_tables import PaperTable, paper_table
+from .parameter_draws import draws_section
 
 
 def describe_operators(config: ExperimentConfig) -> str:
@@ -230,6 +231,8 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
     ]
     if paper:
         lines.append(f"Values in parentheses are the paper's {paper.caption}.")
+    figure = out / "figures" / "parameter_draws.png" if config.output.figures else None
+    lines += draws_section(config.uncertain_parameters(), evaluation.data, figure)
     lines += ["", "## Relative L2 error (test split)", ""]
     lines += _markdown_table(models, names, "rel_l2", 4, paper)
     lines += ["", "## RMSE (m, test split)", ""]

@@ -115,6 +115,22 @@ def check_zero_output_start(cls: type[NeuralOperator], **hyper: Any) -> None:
             raise fail(operator, "after zero_output_() one optimiser step leaves the output zero")
 
 
+def check_constant_channel_reaches_output(cls: type[NeuralOperator], **hyper: Any) -> None:
+    """A channel constant in time (a structural parameter of a family model) changes the
+    output of its own record and of no other: the records of a batch stay independent."""
+    operator = _built(cls, hyper).eval()
+    x = _input()
+    x[:, :, 1] = torch.tensor([[0.5], [-1.0]])
+    moved = x.clone()
+    moved[0, :, 1] = 1.5
+    with torch.no_grad():
+        y, y_moved = operator(x), operator(moved)
+    if torch.equal(y[0], y_moved[0]):
+        raise fail(operator, "a channel constant in time does not change the output")
+    if not torch.allclose(y[1], y_moved[1], rtol=1e-5, atol=1e-6):
+        raise fail(operator, "changing one record's input changes another record's output")
+
+
 def check_wrong_input_raises(cls: type[NeuralOperator], **hyper: Any) -> None:
     """An input with the wrong number of channels raises the package's own error
     (:class:`~cphysfno_core.CphysfnoError`)."""
@@ -128,6 +144,7 @@ OPERATOR_CHECKS: tuple[Callable[..., None], ...] = (
     check_state_dict_round_trip,
     check_bfloat16_autocast,
     check_zero_output_start,
+    check_constant_channel_reaches_output,
     check_wrong_input_raises,
 )
 """The checks of an operator class, in order; each takes ``(cls, **hyper)``."""
@@ -139,7 +156,8 @@ def check_operator(cls: type[NeuralOperator], **hyper: Any) -> None:
     parameter, a state-dict round trip reproduces the output, the state dict holds tensors
     only, under bfloat16 autocast (``precision="bfloat16"`` in prediction and training)
     the output stays within 5 % of float32's and the gradients within 25 %,
-    ``zero_output_()`` zeroes the output without stopping it from learning, and a wrong
-    input raises the package's own error."""
+    ``zero_output_()`` zeroes the output without stopping it from learning, a channel
+    constant in time (a structural parameter) changes its own record's output and no
+    other's, and a wrong input raises the package's own error."""
     for check in OPERATOR_CHECKS:
         check(cls, **hyper)
