@@ -34,10 +34,12 @@ class DampingRegion(BaseModel):
     the mass of ``nodes`` and the stiffness (and mass) of ``elements``; the rest is left
     undamped (an isolator's ``zeroLength`` elements and its nodes, say)."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", frozen=True)
 
-    nodes: list[int] = Field([], description="nodes whose mass is damped (alphaM)")
-    elements: list[int] = Field([], description="elements whose stiffness is damped (betaK)")
+    nodes: tuple[int, ...] = Field((), description="nodes whose mass is damped (alphaM)")
+    elements: tuple[int, ...] = Field(
+        (), description="elements whose stiffness is damped (betaK)"
+    )
 
     @model_validator(mode="after")
     def _not_empty(self) -> DampingRegion:
@@ -54,14 +56,13 @@ class DampingSetup:
         kind: :data:`DampingKind`.
         rayleigh: the Rayleigh factors (``rayleigh`` kinds; zeros for ``modal``).
         modal_ratios: the damping ratio of each mode from 1 (``modal``).
-        nodes, elements: the region Rayleigh damping acts on, or None for the whole model.
+        region: the part of the model Rayleigh damping acts on, or None for the whole.
     """
 
     kind: DampingKind
     rayleigh: Rayleigh
     modal_ratios: tuple[float, ...] = ()
-    nodes: tuple[int, ...] | None = None
-    elements: tuple[int, ...] | None = None
+    region: DampingRegion | None = None
 
     def apply(self, ops: Any, *, tangent: bool = False) -> None:
         """Set the damping in the domain (after gravity, before the transient).
@@ -78,14 +79,14 @@ class DampingSetup:
         factors = [self.rayleigh.mass_factor, 0.0, 0.0, 0.0]
         slot = 1 if tangent else (2 if self.kind == "rayleigh" else 3)
         factors[slot] = self.rayleigh.stiffness_factor
-        if self.nodes is None and self.elements is None:
+        if self.region is None:
             ops.rayleigh(*factors)
             return
-        if self.elements:
-            ops.region(REGION_TAG, "-eleOnly", *self.elements, "-rayleigh", *factors)
-        if self.nodes:
+        if self.region.elements:
+            ops.region(REGION_TAG, "-eleOnly", *self.region.elements, "-rayleigh", *factors)
+        if self.region.nodes:
             masses = (factors[0], 0.0, 0.0, 0.0)
-            ops.region(REGION_TAG + 1, "-nodeOnly", *self.nodes, "-rayleigh", *masses)
+            ops.region(REGION_TAG + 1, "-nodeOnly", *self.region.nodes, "-rayleigh", *masses)
 
     def describe(self) -> dict[str, Any]:
         """The damping as JSON-ready values (for ``opensees-model.json``)."""
@@ -96,8 +97,8 @@ class DampingSetup:
             "mass_factor_per_s": self.rayleigh.mass_factor,
             "stiffness_factor_s": self.rayleigh.stiffness_factor,
             "region": None
-            if self.nodes is None
-            else {"nodes": list(self.nodes), "elements": list(self.elements or ())},
+            if self.region is None
+            else {"nodes": list(self.region.nodes), "elements": list(self.region.elements)},
         }
 
     def modal_matrix(self, mass: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
@@ -123,14 +124,14 @@ class DampingChoice:
             unless ``modal_ratios`` gives one per mode.
         modes: the two modes (from 1) Rayleigh damping matches ``ratio`` in.
         modal_ratios: the ratio of each mode from 1 (``modal``), or None.
-        region: the nodes and elements Rayleigh damping acts on, or None for all.
+        region: the part of the model Rayleigh damping acts on, or None for the whole.
     """
 
     kind: DampingKind
     ratio: float
     modes: tuple[int, int]
     modal_ratios: tuple[float, ...] | None = None
-    region: tuple[tuple[int, ...], tuple[int, ...]] | None = None
+    region: DampingRegion | None = None
 
     def setup(self, omega: np.ndarray, script: Any) -> DampingSetup:
         """The damping commands for the model whose circular frequencies at the gravity
@@ -140,10 +141,11 @@ class DampingChoice:
             ScriptError: the modes asked for are more than the model has (DOFs with mass).
         """
         if self.kind == "modal":
-            what, wanted = f"modal_ratios = {list(self.modal_ratios or ())}", self.modal_ratios
+            what = f"modal_ratios = {list(self.modal_ratios or ())}"
+            needed = len(self.modal_ratios or ())
         else:
-            what, wanted = f"rayleigh_modes = {list(self.modes)}", range(max(self.modes))
-        if len(wanted or ()) > omega.size:
+            what, needed = f"rayleigh_modes = {list(self.modes)}", max(self.modes)
+        if needed > omega.size:
             raise ScriptError(
                 f"{what}: the model of OpenSees script {script} has {omega.size} mode(s) "
                 "(DOFs with mass)"
@@ -155,6 +157,4 @@ class DampingChoice:
         if self.ratio > 0.0:
             first, second = (omega[m - 1] for m in self.modes)
             factors = Rayleigh.matching(first, second, self.ratio)
-        if self.region is None:
-            return DampingSetup(self.kind, factors)
-        return DampingSetup(self.kind, factors, (), *self.region)
+        return DampingSetup(self.kind, factors, region=self.region)

@@ -231,13 +231,12 @@ class OpenSeesModel(OpenSeesStructure):
     def damping_choice(self) -> DampingChoice:
         """The damping the parameters ask for (its factors found by the probe)."""
         p = self.params
-        region = p.damping_region
         return DampingChoice(
             p.damping,
             p.damping_ratio,
             tuple(p.rayleigh_modes),
             None if p.modal_ratios is None else tuple(p.modal_ratios),
-            None if region is None else (tuple(region.nodes), tuple(region.elements)),
+            p.damping_region,
         )
 
     @cached_property
