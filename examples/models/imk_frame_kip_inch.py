@@ -72,6 +72,12 @@ Differences from the published script, and assumptions:
   because the published model uses it. Once the springs yield, Newton's iterations cycle
   on some steps of 0.01 s (cphysfno's fallbacks complete them); at 0.0025 s they converge.
 
+``build(fy=55.0)`` takes the steel's yield stress in ksi: the springs' yield moments are
+the published ones (those of an expected yield stress of 55 ksi: 20350 kip in is the
+W24x131's plastic modulus, 370 in^3, times 55 ksi) scaled by ``fy / 55``, so that
+``arguments.fy`` of the config can make the frame's strength uncertain
+(examples/opensees-model-imk-family.toml).
+
 ``TIES`` (module constant) chooses how the spring nodes hang on the joints: ``"equalDOF"``
 as published, or ``"rigidLink"``, where every spring's joint-side node is a node of its own
 tied to the joint by ``rigidLink beam`` (a rigid joint, as one writes rigid end offsets),
@@ -95,6 +101,7 @@ FLOOR_WEIGHTS = (535.0, 525.0)  # kip, floor 2 and roof
 LEANING_LOADS = (398.02, 391.31)  # kip, floor 2 and roof
 RIGID_AREA, RIGID_INERTIA = 1000.0, 100000.0  # in^2, in^4: trusses and leaning column
 LEANING_SPRING = 1.0  # kip in/rad (published: 1e-9; see the docstring)
+PUBLISHED_FY = 55.0  # ksi, the expected yield stress behind the published yield moments
 CAPPING = 1.05  # Mc / My
 DETERIORATION = 1000.0  # Lambda: no cyclic deterioration
 RESIDUAL, ULTIMATE = 0.4, 0.4
@@ -123,8 +130,10 @@ def _spring(tag, joint, node, stiffness, yield_moment, rotations):
     ops.equalDOF(joint, node, 1, 2)
 
 
-def build():
-    """The frame (piers 1 and 2), its springs, the leaning column (pier 3) and the ties."""
+def build(fy=PUBLISHED_FY):
+    """The frame (piers 1 and 2), its springs, the leaning column (pier 3) and the ties;
+    ``fy``: the steel's yield stress, ksi (the springs' yield moments scale with it)."""
+    strength = fy / PUBLISHED_FY
     ops.model("basic", "-ndm", 2, "-ndf", 3)
     x = (0.0, BAY, 2.0 * BAY)
     y = (0.0, STORIES[0], STORIES[0] + STORIES[1])
@@ -152,7 +161,7 @@ def build():
                         COLUMN["area"], E, column_i, 1)  # fmt: skip
             for joint, node, end in ((bottom, above, 1), (top, below, 2)):
                 _spring(3000 + 100 * pier + 10 * story + end, joint, node, stiffness,
-                        COLUMN["yield_moment"], COLUMN_ROTATIONS)  # fmt: skip
+                        strength * COLUMN["yield_moment"], COLUMN_ROTATIONS)  # fmt: skip
 
     # beams: nodes "1y2" right of joint 1y and "2y3" left of joint 2y
     beam_i = BEAM["inertia"] * (N + 1.0) / N
@@ -166,7 +175,7 @@ def build():
                     beam_i, 1)  # fmt: skip
         for joint, node, side in ((left, start, 1), (right, end, 2)):
             _spring(4000 + 100 + 10 * floor + side, joint, node, stiffness,
-                    BEAM["yield_moment"], BEAM_ROTATIONS)  # fmt: skip
+                    strength * BEAM["yield_moment"], BEAM_ROTATIONS)  # fmt: skip
 
     # the leaning column: a beam-column per story between nodes 31, 326 and 327, 336,
     # pinned to the floor nodes 32 and 33 by springs of negligible stiffness
