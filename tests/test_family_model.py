@@ -359,3 +359,30 @@ def test_demands_of_a_family_predict_each_record_on_its_own_structure(family_run
     soft_table = np.genfromtxt(tmp_path / "soft.csv", delimiter=",", skip_header=2)
     drawn_table = np.genfromtxt(tmp_path / "drawn.csv", delimiter=",", skip_header=2)
     assert not np.allclose(soft_table[:, first], drawn_table[:, first])
+
+
+def test_a_physics_response_given_to_the_baseline_is_refused(family):
+    motions, u, _ = family
+    baseline = cp.compose(operator=FNO, training=TRAINING)
+    z = np.zeros_like(u)
+    with pytest.raises(cp.InputError, match="no physics preprocessor"):
+        baseline.fit(motions[:8], u[:8], validation=(motions[8:], u[8:]), z=z[:8], progress=None)
+    baseline.fit(motions[:8], u[:8], validation=(motions[8:], u[8:]), progress=None)
+    with pytest.raises(cp.InputError, match="no physics preprocessor"):
+        baseline.predict_stages(motions, z=z)
+
+
+def test_a_study_run_finds_the_studys_dataset_and_config(family_run, tmp_path):
+    from cphysfno_core.data.layout import run_file
+
+    folder, _ = family_run
+    study = tmp_path / "study"
+    run = study / "runs" / "table" / "seed-0"
+    run.mkdir(parents=True)
+    (study / "study.json").write_text("{}")
+    (study / "dataset.h5").write_bytes((folder / "dataset.h5").read_bytes())
+    (study / "config.json").write_text((folder / "config.json").read_text())
+    (run / "metrics.json").write_text((folder / "metrics.json").read_text())
+    assert run_file(run, "dataset.h5") == study / "dataset.h5"
+    assert run_file(run, "metrics.json") == run / "metrics.json"
+    assert run_file(tmp_path, "dataset.h5") == tmp_path / "dataset.h5"  # no study: its own

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..data.datasets import load_dataset
-from ..data.layout import DATASET
+from ..data.layout import DATASET, run_file
 from ..model.prediction_files import read_motions, read_parameters
 from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
@@ -63,7 +63,7 @@ def write_demand_sample(
         elif space is not None:
             params = space.columns(space.draw(motions.n_records, seed))
     else:
-        data = load_dataset(run / DATASET)
+        data = load_dataset(run_file(run, DATASET))
         flagged, unfinished = data.collapsed_rows("test"), data.non_converged_rows("test")
         everything = np.sort(np.concatenate([data.rows("test"), flagged, unfinished]))
         motions = GroundMotions(data.ag[everything], data.dt)

@@ -45,7 +45,7 @@ from ..api.registry import get_registry
 from ..config.experiment import load_config, parse_config
 from ..config.uncertainty import UncertainParameters
 from ..data.datasets import load_dataset
-from ..data.layout import DATASET, MODELS
+from ..data.layout import CONFIG, DATASET, MODELS, run_file
 from ..model.composite import CompositeModel
 from ..model.extrapolation import EXTRAPOLATION_FACTOR, outside_training
 from ..model.labels import ModelLabel
@@ -200,11 +200,11 @@ def load_trained_run(
         ConfigError: the run is not finished, has no such model (the message lists those
             it has), or the config file does not validate.
     """
-    for needed in ("config.json", "metrics.json"):
-        if not (run / needed).is_file():
+    for needed in (CONFIG, "metrics.json"):
+        if not run_file(run, needed).is_file():
             raise ConfigError(f"{run} is not a finished run: it has no {needed}")
     if config_path is None:
-        config = parse_config(json.loads((run / "config.json").read_text()))
+        config = parse_config(json.loads(run_file(run, CONFIG).read_text()))
     else:
         config = load_config(config_path)
     label = model_label or default_model(MetricsDocument.read(run / "metrics.json"), demands)
@@ -265,7 +265,8 @@ def run_fragility(
 
     Args:
         run: a folder written by ``cphysfno run`` (``config.json``, ``metrics.json``,
-            ``dataset.h5``, ``models/``).
+            ``dataset.h5``, ``models/``), or one run of a study (``STUDY/runs/...``, whose
+            dataset and config are the study's: :func:`~cphysfno_core.data.layout.run_file`).
         limit_states: the thresholds to fit.
         records: motions of the large analysis, drawn from the run's ground-motion source
             with ``seed`` (ignored with ``motions_file``).
@@ -295,7 +296,7 @@ def run_fragility(
     run = Path(run)
     if non_converged not in NON_CONVERGED:
         raise ConfigError(f"--non-converged {non_converged}: use one of {', '.join(NON_CONVERGED)}")
-    if not (run / DATASET).is_file():
+    if not run_file(run, DATASET).is_file():
         raise ConfigError(f"{run} is not a finished run: it has no {DATASET}")
     demands = tuple(dict.fromkeys(state.demand.upper() for state in limit_states))
     trained = load_trained_run(run, model_label, demands, config_path)
@@ -309,7 +310,7 @@ def run_fragility(
         edp.require_heights(edp.stories_of(structure), "a fragility on story drift ratios")
     t1 = float(structure.periods(1)[0])
     im = intensity_measure(measure, t1)
-    data = load_dataset(run / DATASET)
+    data = load_dataset(run_file(run, DATASET))
 
     rows = data._split_rows("test")
     motions = GroundMotions(data.ag[rows], data.dt)

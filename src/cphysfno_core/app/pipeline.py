@@ -18,7 +18,7 @@ from ..api.registry import get_registry
 from ..config.experiment import ExperimentConfig
 from ..data.datasets import load_dataset
 from ..data.generation import generate_dataset
-from ..data.layout import DATASET, MODELS
+from ..data.layout import CONFIG, DATASET, MODELS
 from ..model.composite import CompositeModel, Prediction
 from ..model.labels import ModelLabel
 from ..model.training import resolve_device
@@ -329,7 +329,7 @@ def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Eval
     resolve_device(config.training.device)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
+    (out / CONFIG).write_text(json.dumps(config.to_dict(), indent=2))
     generate(config, out)
     train(config, out, resume=resume)
     evaluation = evaluate(config, out)

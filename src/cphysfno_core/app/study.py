@@ -36,7 +36,7 @@ import torch
 from ..config.allocator import tune_memory
 from ..config.experiment import DataConfig, ExperimentConfig, parse_config
 from ..data.executors import run_tasks
-from ..data.layout import DATASET, MODELS
+from ..data.layout import CONFIG, DATASET, MODELS, STUDY_SUMMARY
 from ..model.training import resolve_device
 from ..signals.cpus import usable_cpus
 from ..signals.errors import ConfigError
@@ -47,7 +47,7 @@ from .study_document import StudySummary
 
 RUNS = "runs"
 TABLE = "table"
-SUMMARY = "study.json"
+SUMMARY = STUDY_SUMMARY
 LOG = "study.log"
 
 
@@ -180,7 +180,7 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> Study
     resolve_device(config.training.device)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "config.json").write_text(json.dumps(config.to_dict(), indent=2))
+    (out / CONFIG).write_text(json.dumps(config.to_dict(), indent=2))
     runs = plan(config, out)
     pipeline.generate(config, out)
     dataset = out / DATASET

@@ -334,6 +334,7 @@ class CompositeModel:
         if overrides:
             self.training = self.training.model_copy(update=overrides)
             TrainingConfig.model_validate(self.training.model_dump())
+        self._check_physics_given(z, validation_z)
         values, val_values = self._fit_parameters(
             params, validation_params, param_units, motions.n_records, val_motions.n_records
         )
@@ -387,6 +388,15 @@ class CompositeModel:
             u_hat = self._run_operator(x, z_fit)[:, :, : self._displacements]
             self.refiner.fit(z_fit, u_hat, u_fit, rng)
         return self
+
+    def _check_physics_given(self, *given: np.ndarray | None) -> None:
+        """Refuse a physics response given to the baseline, which has none: it would be
+        taken for the operator's input in place of a_g."""
+        if self.preprocessor is None and any(z is not None for z in given):
+            raise InputError(
+                f"model '{self.label}' has no physics preprocessor: give it no physics "
+                "response z (it works on a_g)"
+            )
 
     def _fit_parameters(
         self,
@@ -581,6 +591,7 @@ class CompositeModel:
         values = self._parameter_values(params, motions.n_records)
         if values is not None:
             self.parameters.warn_outside(values, self.label)
+        self._check_physics_given(z)
         if self.preprocessor is not None and z is None:
             z = self._physics(motions, values)
         shape = motions.acceleration.shape
