@@ -386,3 +386,10 @@ def test_a_study_run_finds_the_studys_dataset_and_config(family_run, tmp_path):
     assert run_file(run, "dataset.h5") == study / "dataset.h5"
     assert run_file(run, "metrics.json") == run / "metrics.json"
     assert run_file(tmp_path, "dataset.h5") == tmp_path / "dataset.h5"  # no study: its own
+
+
+def test_a_physics_response_of_another_shape_is_refused(family):
+    motions, _, _ = family
+    model = _fit(family, params=False)
+    with pytest.raises(cp.InputError, match=r"physics response \(12, 50, 2\) does not match"):
+        model.predict_stages(motions, z=np.zeros((12, 50, 2)))

@@ -67,9 +67,9 @@ def test_inputs_are_built_one_chunk_at_a_time(trained, monkeypatch) -> None:
     assert sizes == [4, 4, 3]
 
 
-def test_physics_response_of_another_shape_is_refused(trained) -> None:
+def test_a_physics_response_given_to_the_baseline_is_refused(trained) -> None:
     model, motions = trained
-    with pytest.raises(cp.InputError, match=r"physics response \(10, 90, 2\) does not match"):
+    with pytest.raises(cp.InputError, match="has no physics preprocessor"):
         model.predict_stages(motions, z=np.zeros((10, 90, 2)))
 
 

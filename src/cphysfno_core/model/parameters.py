@@ -128,7 +128,9 @@ class ParameterScale:
         return {"mean": self.mean, "std": self.std, "low": self.low, "high": self.high}
 
     @classmethod
-    def restore(cls, description: Mapping[str, Any], arrays: Mapping[str, np.ndarray]):
+    def restore(
+        cls, description: Mapping[str, Any], arrays: Mapping[str, np.ndarray]
+    ) -> ParameterScale:
         """The scale saved as :meth:`description` and :meth:`arrays`."""
         return cls(
             tuple(description["names"]),
