@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import shutil
 from pathlib import Path
@@ -219,6 +220,7 @@ def evaluate(
     structure = get_registry().create("structure", config.structure.name, **config.structure.params)
     stories = structure.stories() if "stories" in structure.capabilities else None
     scorer = EDPScorer(stories, data, train_rows)
+    accelerations = functools.cache(data.accelerations)  # read once, for every model
     for pp in config.preprocessor:
         label = str(ModelLabel.physics(pp.name))
         z_test, z_val = data.physics(pp.name, "test"), data.physics(pp.name, "val")
@@ -241,9 +243,9 @@ def evaluate(
         results[label]["validation_rel_l2"] = metrics.relative_l2(validation.mean, val_u).tolist()
         if stages.acceleration is not None:
             results[label]["acceleration"] = {
-                **metric_row(stages.acceleration, data.accelerations("test")),
+                **metric_row(stages.acceleration, accelerations("test")),
                 "validation_rel_l2": metrics.relative_l2(
-                    validation.acceleration, data.accelerations("val")
+                    validation.acceleration, accelerations("val")
                 ).tolist(),
             }
         results[label].update(
