@@ -393,3 +393,16 @@ def test_a_physics_response_of_another_shape_is_refused(family):
     model = _fit(family, params=False)
     with pytest.raises(cp.InputError, match=r"physics response \(12, 50, 2\) does not match"):
         model.predict_stages(motions, z=np.zeros((12, 50, 2)))
+
+
+def test_a_parameter_the_structure_does_not_have_is_refused_at_fit(family):
+    motions, u, _ = family
+    model = cp.compose(
+        structure=_structure(*NOMINAL.values()), preprocessor="els", operator=FNO, training=TRAINING
+    )
+    wrong = {"stiffnesses.7": np.full(8, 4e7)}
+    with pytest.raises(cp.ConfigError, match="no number at stiffnesses.7"):
+        model.fit(
+            motions[:8], u[:8], validation=(motions[8:], u[8:]), params=wrong,
+            validation_params={"stiffnesses.7": np.full(4, 4e7)}, progress=None,
+        )  # fmt: skip

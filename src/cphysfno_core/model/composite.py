@@ -423,6 +423,7 @@ class CompositeModel:
                 f"give validation_params with the same parameters as params: {', '.join(params)}"
             )
         self.parameters_ = ParameterScale.fit(params, n, units)
+        self._nominal()  # every parameter must name a number of the structure's table
         nominal: dict[str, float] = {}
         return (
             self.parameters_.values(params, n, nominal),
