@@ -334,13 +334,9 @@ def run_fragility(
         model, structure, config, records, motions_file, im, seed, progress, space
     )
     large_seconds = time.perf_counter() - started
-    medians = None
-    if space is not None:
-        if progress:
-            show_progress("  fragility: the large set again, every parameter at its median")
-        medians = _large_analysis(
-            model, structure, config, records, motions_file, im, seed, progress, None
-        )
+    large_sets = {"surrogate-large": large.demands}
+    if large.median_demands is not None:
+        large_sets["surrogate-large-medians"] = large.median_demands
 
     rng = np.random.default_rng(seed)
     collapse = None
@@ -381,9 +377,7 @@ def run_fragility(
     )
     curves = {}
     predicted_ok = np.isfinite(predicted.pid).all(axis=1)
-    large_ok = np.isfinite(large.demands.pid).all(axis=1)
-    sources = ("simulation", "surrogate", "surrogate-large")
-    sources += () if medians is None else ("surrogate-large-medians",)
+    sources = ("simulation", "surrogate", *large_sets)
     for state in limit_states:
         what = f"{state.name} ({measure})"
         simulated = np.where(collapsed, True, demand_values(truth, state) > state.threshold)
@@ -395,20 +389,18 @@ def run_fragility(
             demand_values(predicted, state)[predicted_ok] > state.threshold,
             collapse, grid, rng, n_bootstrap, what + ", surrogate",
         )  # fmt: skip
-        large_fit = _surrogate_fit(
-            large.intensity[large_ok],
-            demand_values(large.demands, state)[large_ok] > state.threshold,
-            collapse, grid, rng, n_bootstrap, what + ", surrogate-large",
-        )  # fmt: skip
-        fits = {"simulation": simulation, "surrogate": surrogate, "surrogate-large": large_fit}
-        if medians is not None:
-            medians_ok = np.isfinite(medians.demands.pid).all(axis=1)
-            fits["surrogate-large-medians"] = _surrogate_fit(
-                medians.intensity[medians_ok],
-                demand_values(medians.demands, state)[medians_ok] > state.threshold,
-                collapse, grid, rng, n_bootstrap, what + ", surrogate-large-medians",
+        fits = {"simulation": simulation, "surrogate": surrogate}
+        for source, demands in large_sets.items():
+            ok = np.isfinite(demands.pid).all(axis=1)
+            fits[source] = _surrogate_fit(
+                large.intensity[ok],
+                demand_values(demands, state)[ok] > state.threshold,
+                collapse, grid, rng, n_bootstrap, f"{what}, {source}",
             )  # fmt: skip
-            fits["dispersion"] = dispersion_split(large_fit, fits["surrogate-large-medians"])
+        if "surrogate-large-medians" in fits:
+            fits["dispersion"] = dispersion_split(
+                fits["surrogate-large"], fits["surrogate-large-medians"]
+            )
         document["limit_states"][state.name] = fits
         curves[state.name] = {}
         for source in sources:
@@ -553,6 +545,9 @@ class LargeAnalysis:
         extrapolated: how many records lie outside the model's training range
             (:func:`outside_training`).
         failures: record index -> why its prediction failed.
+        median_demands: for a model of a family whose records drew their parameters, the
+            EDPs of the same records predicted with every parameter at its median (None
+            otherwise).
     """
 
     intensity: np.ndarray
@@ -560,6 +555,7 @@ class LargeAnalysis:
     distinct: int | None
     extrapolated: int
     failures: dict[int, str]
+    median_demands: edp.EDPs | None = None
 
 
 def _large_analysis(
@@ -576,8 +572,9 @@ def _large_analysis(
     """The large set predicted :data:`CHUNK` records at a time, with progress (records per
     second and time left) after each chunk; records outside the training range are said
     once at the end instead of warned for every chunk. With ``space``, each record draws
-    its structural parameters from it (reproducibly by ``seed``); without, a model of a
-    family predicts every record at its parameters' medians."""
+    its structural parameters from it (reproducibly by ``seed``) and is predicted again
+    with every parameter at its median (:attr:`LargeAnalysis.median_demands`); without,
+    a model of a family predicts every record at its parameters' medians."""
     if motions_file is not None:
         source_motions = read_motions(motions_file)
         n = source_motions.n_records
@@ -588,7 +585,7 @@ def _large_analysis(
         source = get_registry().create("ground_motion", spec.name, **spec.params)
         rng = np.random.default_rng([seed, 7919])
         n = records
-    intensities, parts = [], []
+    intensities, parts, median_parts = [], [], []
     started = time.perf_counter()
     distinct = None
     extrapolated = 0
@@ -608,6 +605,9 @@ def _large_analysis(
             warnings.simplefilter("ignore", ExtrapolationWarning)
             params = None if draws is None else space.columns(draws[start:stop])
             responses, failed = predict_skipping_failures(model, chunk, params)
+            if draws is not None:
+                at_medians, _ = predict_skipping_failures(model, chunk)
+                median_parts.append(edp.compute(at_medians, structure, chunk))
         failures.update({start + i: why for i, why in failed.items()})
         parts.append(edp.compute(responses, structure, chunk))
         intensities.append(im.of(chunk))
@@ -630,7 +630,10 @@ def _large_analysis(
             f"  fragility: the ground-motion source gives at most {distinct} records a draw; "
             "the large set was drawn in rounds (a scaled source scales each round anew)"
         )
-    return LargeAnalysis(np.concatenate(intensities), demands, distinct, extrapolated, failures)
+    medians = edp.EDPs.concatenate(median_parts) if median_parts else None
+    return LargeAnalysis(
+        np.concatenate(intensities), demands, distinct, extrapolated, failures, medians
+    )
 
 
 def draw(source: Any, n: int, rng: np.random.Generator) -> tuple[GroundMotions, int]:
