@@ -220,10 +220,10 @@ def is_distribution(value: Any) -> bool:
     return isinstance(value, dict) and DIST_KEY in value
 
 
-def _walk(tree: Any, visit: Callable[[str, dict], Any], path: tuple[str, ...] = ()) -> Any:
-    """``tree`` (tables, lists, numbers) with every distribution ``d`` at dotted path ``p``
-    replaced by ``visit(p, d)``."""
-    if is_distribution(tree):
+def _walk(tree: Any, visit: Callable[[str, Any], Any], path: tuple[str, ...] = ()) -> Any:
+    """``tree`` (tables, lists, numbers) with every leaf that is a distribution or a number,
+    ``leaf`` at dotted path ``p``, replaced by ``visit(p, leaf)``."""
+    if is_distribution(tree) or _is_number(tree):
         return visit(".".join(path), tree)
     if isinstance(tree, dict):
         return {key: _walk(item, visit, (*path, str(key))) for key, item in tree.items()}
@@ -246,7 +246,9 @@ def random_parameters(params: Mapping[str, Any], where: str = "structure") -> li
     """
     found: list[RandomParameter] = []
 
-    def parse(path: str, table: dict) -> None:
+    def parse(path: str, table: Any) -> Any:
+        if not is_distribution(table):
+            return table
         first = path.split(".")[0]
         if first in FIXED_PARAMETERS:
             raise ConfigError(f"{where}.{path}: may not be random: {FIXED_PARAMETERS[first]}")
@@ -260,6 +262,7 @@ def random_parameters(params: Mapping[str, Any], where: str = "structure") -> li
             found.append(RandomParameter(path, kind.model_validate(table)))
         except ValidationError as error:
             raise ConfigError(format_validation_error(error, f"{where}.{path}")) from None
+        return table
 
     _walk(dict(params), parse)
     return sorted(found, key=lambda parameter: _order(parameter.path))
@@ -276,20 +279,15 @@ def with_values(params: Mapping[str, Any], values: Mapping[str, float]) -> dict[
     """
     found: set[str] = set()
 
-    def replace(tree: Any, path: tuple[str, ...]) -> Any:
-        dotted = ".".join(path)
-        if dotted in values and (is_distribution(tree) or _is_number(tree)):
-            found.add(dotted)
-            return float(values[dotted])
-        if is_distribution(tree):
-            raise ConfigError(f"structure.{dotted}: a distribution was given no value")
-        if isinstance(tree, dict):
-            return {key: replace(item, (*path, str(key))) for key, item in tree.items()}
-        if isinstance(tree, list | tuple):
-            return [replace(item, (*path, str(i))) for i, item in enumerate(tree)]
-        return tree
+    def replace(path: str, leaf: Any) -> Any:
+        if path in values:
+            found.add(path)
+            return float(values[path])
+        if is_distribution(leaf):
+            raise ConfigError(f"structure.{path}: a distribution was given no value")
+        return leaf
 
-    replaced = replace(dict(params), ())
+    replaced = _walk(dict(params), replace)
     missing = sorted(set(values) - found, key=_order)
     if missing:
         raise ConfigError(
