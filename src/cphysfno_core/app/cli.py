@@ -149,7 +149,8 @@ def _stage(args: argparse.Namespace) -> int:
 
 
 def _study(args: argparse.Namespace) -> int:
-    from .study import SUMMARY, run_study, summarise_finished, with_seeds
+    from ..data.layout import STUDY_SUMMARY
+    from .study import run_study, summarise_finished, with_seeds
     from .study_report import write_study_report
 
     config = _with_models(load_config(args.config), args.models)
@@ -159,7 +160,7 @@ def _study(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     if args.summary_only:
         summary = summarise_finished(config, out)
-        summary.write(out / SUMMARY)
+        summary.write(out / STUDY_SUMMARY)
     else:
         summary = run_study(config, out, jobs=args.jobs)
     report = write_study_report(config, summary, out)

@@ -47,7 +47,6 @@ from .study_document import StudySummary
 
 RUNS = "runs"
 TABLE = "table"
-SUMMARY = STUDY_SUMMARY
 LOG = "study.log"
 
 
@@ -227,7 +226,7 @@ def run_study(config: ExperimentConfig, out: str | Path, jobs: int = 1) -> Study
                 finished,
             )
     summary = summarise(config, runs)
-    summary.write(out / SUMMARY)
+    summary.write(out / STUDY_SUMMARY)
     return summary
 
 
