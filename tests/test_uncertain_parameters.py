@@ -138,12 +138,6 @@ def test_a_bad_fixed_parameter_beside_distributions_is_still_reported():
         cp.parse_config(tomllib.loads(text + REST))
 
 
-def test_story_heights_may_not_be_random():
-    text = STRUCTURE.format(law=LAW) + 'story_heights = { dist = "uniform", low = 3, high = 4 }\n'
-    with pytest.raises(cp.ConfigError, match=r"structure\.story_heights: may not be random"):
-        cp.parse_config(tomllib.loads(text + REST))
-
-
 def _space(correlations=()) -> UncertainParameters:
     return UncertainParameters.of(
         {

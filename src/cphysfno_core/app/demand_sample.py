@@ -22,6 +22,7 @@ import numpy as np
 
 from ..data.datasets import load_dataset
 from ..data.layout import DATASET, run_file
+from ..data.record_stories import RecordStories
 from ..model.prediction_files import read_motions, read_parameters
 from ..model.skipping import predict_skipping_failures
 from ..reporting import edp
@@ -62,6 +63,7 @@ def write_demand_sample(
             params = read_parameters(params_file)
         elif space is not None:
             params = space.columns(space.draw(motions.n_records, seed))
+        drawn = params
     else:
         data = load_dataset(run_file(run, DATASET))
         flagged, unfinished = data.collapsed_rows("test"), data.non_converged_rows("test")
@@ -69,14 +71,15 @@ def write_demand_sample(
         motions = GroundMotions(data.ag[everything], data.dt)
         collapsed = np.isin(everything, flagged)
         stopped = np.isin(everything, unfinished)
-        if model.parameters is not None:
-            params = data.draws_of(everything)
+        drawn = data.draws_of(everything)
+        params = drawn if model.parameters is not None else None
     standing = np.flatnonzero(~collapsed & ~stopped)
-    if params is not None:
-        n = motions.n_records
-        params = {name: np.broadcast_to(v, n)[standing] for name, v in params.items()}
+    if drawn:  # each standing record's parameters: for its heights, and the model's input
+        drawn = {name: np.broadcast_to(v, motions.n_records)[standing] for name, v in drawn.items()}
+    heights = RecordStories(structure).heights(drawn, len(standing))
+    params = drawn if params is not None else None
     responses = predict_skipping_failures(model, motions[standing], params)[0]
-    predicted = edp.compute(responses, structure, motions[standing])
+    predicted = edp.compute(responses, structure, motions[standing], heights=heights)
     demands = predicted.map(lambda values: _spread(values, standing, motions.n_records))
     # the ground's own column, every record's
     demands.values["PFA"][:, 0] = peak_ground_acceleration(motions.acceleration)

@@ -46,6 +46,7 @@ from ..config.experiment import load_config, parse_config
 from ..config.uncertainty import UncertainParameters
 from ..data.datasets import load_dataset
 from ..data.layout import CONFIG, DATASET, MODELS, run_file
+from ..data.record_stories import RecordStories
 from ..model.composite import CompositeModel
 from ..model.extrapolation import EXTRAPOLATION_FACTOR, outside_training
 from ..model.labels import ModelLabel
@@ -320,18 +321,22 @@ def run_fragility(
     standing = ~collapsed & ~stopped & ~failed
     counted = ~failed & (~stopped if non_converged == "exclude" else True)
     im_test = im.of(motions)
-    truth = simulated_edps(data, rows, edp.stories_of(structure))
+    family = RecordStories(structure)
+    heights = family.heights(data.draws_of(rows), len(rows))
+    truth = simulated_edps(data, rows, family.stories, heights)
     for state in limit_states:  # an unknown column is refused before any prediction
         demand_values(truth, state)
     kept = motions[np.flatnonzero(standing)]
     drawn = data.draws_of(rows[standing]) if model.parameters is not None else None
     responses, test_failures = predict_skipping_failures(model, kept, drawn)
-    predicted = edp.compute(responses, structure, kept)
+    predicted = edp.compute(
+        responses, structure, kept, heights=None if heights is None else heights[standing]
+    )
 
     space = modelling_uncertainty(model, config)
     started = time.perf_counter()
     large = _large_analysis(
-        model, structure, config, records, motions_file, im, seed, progress, space
+        model, family, config, records, motions_file, im, seed, progress, space
     )
     large_seconds = time.perf_counter() - started
     large_sets = {"surrogate-large": large.demands}
@@ -560,7 +565,7 @@ class LargeAnalysis:
 
 def _large_analysis(
     model: CompositeModel,
-    structure: Any,
+    family: RecordStories,
     config: Any,
     records: int,
     motions_file: Path | None,
@@ -574,7 +579,8 @@ def _large_analysis(
     once at the end instead of warned for every chunk. With ``space``, each record draws
     its structural parameters from it (reproducibly by ``seed``) and is predicted again
     with every parameter at its median (:attr:`LargeAnalysis.median_demands`); without,
-    a model of a family predicts every record at its parameters' medians."""
+    a model of a family predicts every record at its parameters' medians. Each record's
+    drift ratios are over its own structure's story heights (``family``)."""
     if motions_file is not None:
         source_motions = read_motions(motions_file)
         n = source_motions.n_records
@@ -607,9 +613,10 @@ def _large_analysis(
             responses, failed = predict_skipping_failures(model, chunk, params)
             if draws is not None:
                 at_medians, _ = predict_skipping_failures(model, chunk)
-                median_parts.append(edp.compute(at_medians, structure, chunk))
+                median_parts.append(edp.compute(at_medians, family.stories, chunk))
         failures.update({start + i: why for i, why in failed.items()})
-        parts.append(edp.compute(responses, structure, chunk))
+        heights = family.heights(params, chunk.n_records)
+        parts.append(edp.compute(responses, family.stories, chunk, heights=heights))
         intensities.append(im.of(chunk))
         if progress:
             elapsed = time.perf_counter() - started

@@ -15,11 +15,13 @@ from typing import Any
 import numpy as np
 import torch
 
+from ..api.interfaces import Structure
 from ..api.registry import get_registry
 from ..config.experiment import ExperimentConfig
-from ..data.datasets import load_dataset
+from ..data.datasets import Dataset, load_dataset
 from ..data.generation import generate_dataset
 from ..data.layout import CONFIG, DATASET, MODELS
+from ..data.record_stories import RecordStories
 from ..model.composite import CompositeModel, Prediction
 from ..model.labels import ModelLabel
 from ..model.training import resolve_device
@@ -31,7 +33,7 @@ from ..reporting.evaluation import (
     interval_coverage_scores,
     metric_row,
 )
-from ..signals import Responses
+from ..signals import Responses, Stories
 from ..signals.errors import ConfigError, DatasetError
 from ..signals.histories import ACCELERATION_EXTRA
 from ..signals.progress import show_progress
@@ -219,7 +221,7 @@ def evaluate(
     predictions: dict[str, Any] = {}
     structure = get_registry().create("structure", config.structure.name, **config.structure.params)
     stories = structure.stories() if "stories" in structure.capabilities else None
-    scorer = EDPScorer(stories, data, train_rows)
+    scorer = EDPScorer(stories, data, train_rows, _record_heights(structure, stories, data))
     accelerations = functools.cache(data.accelerations)  # read once, for every model
     for pp in config.preprocessor:
         label = str(ModelLabel.physics(pp.name))
@@ -269,6 +271,7 @@ def evaluate(
                         scorer.stories,
                         test_gm,
                         scorer.truth,
+                        scorer.heights("test"),
                     )
                 )
         results[label]["best_epoch"] = model.history_.best_epoch
@@ -311,6 +314,17 @@ def evaluate(
         baseline_rows,
         beaten,
     )
+
+
+def _record_heights(
+    structure: Structure, stories: Stories | None, data: Dataset
+) -> np.ndarray | None:
+    """``[n_records, n_stories]`` the story heights (m) of every record of a family's
+    dataset whose drawn parameters move them, else None."""
+    if stories is None or not data.param_names:
+        return None
+    n = data.ag.shape[0]
+    return RecordStories(structure).heights(data.draws_of(np.arange(n)), n)
 
 
 def _predicted(stages: Prediction, dt: float) -> Responses:

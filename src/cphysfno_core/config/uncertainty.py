@@ -40,11 +40,6 @@ PARAMETER_STREAM = 1
 """The spawn key, under ``data.seed``, of the random stream of the parameters: independent
 of the ground motions' stream (``numpy.random.default_rng(data.seed)``)."""
 
-FIXED_PARAMETERS = {
-    "story_heights": "the drift ratios and EDPs of every record use one set of story heights",
-}
-"""Parameters that may not be random yet, with the reason."""
-
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 
 
@@ -241,17 +236,14 @@ def random_parameters(params: Mapping[str, Any], where: str = "structure") -> li
     """The random parameters of a structure's table ``params``, sorted by path.
 
     Raises:
-        ConfigError: a distribution is unknown, lacks a field or has an invalid one, or a
-            parameter that may not be random is; the message names ``where.path``.
+        ConfigError: a distribution is unknown, lacks a field or has an invalid one; the
+            message names ``where.path``.
     """
     found: list[RandomParameter] = []
 
     def parse(path: str, table: Any) -> Any:
         if not is_distribution(table):
             return table
-        first = path.split(".")[0]
-        if first in FIXED_PARAMETERS:
-            raise ConfigError(f"{where}.{path}: may not be random: {FIXED_PARAMETERS[first]}")
         kind = DISTRIBUTIONS.get(table[DIST_KEY]) if isinstance(table[DIST_KEY], str) else None
         if kind is None:
             raise ConfigError(

@@ -220,6 +220,7 @@ def compute(
     free_vibration_s: float = 0.0,
     output_names: Sequence[str] | None = None,
     channels: Sequence[ResponseChannel] | None = None,
+    heights: np.ndarray | None = None,
 ) -> EDPs:
     """Every EDP of :data:`~cphysfno_core.reporting.edp_table.EDP_TABLE` that the
     responses allow, for every record: peak (PID) and residual (RID) story drift ratios,
@@ -276,6 +277,10 @@ def compute(
         channels: the named responses to take the peaks of (PR), each an extra channel
             of ``responses`` (default: the structure's :meth:`response_channels` that the
             responses carry).
+        heights: ``[n, n_stories]`` each record's story heights in m, for records of
+            structures of one family whose heights differ (see
+            :class:`~cphysfno_core.data.record_stories.RecordStories`); ``nan`` where the
+            stories have no height. Default: every record has the stories' own.
 
     Returns:
         :class:`EDPs`: ``pid`` and ``rid`` ``[n, n_stories]``, ``pfa`` ``[n, 1 + n_floors]``
@@ -283,13 +288,14 @@ def compute(
 
     Raises:
         InputError: shapes or time steps that do not match, stories naming outputs the
-            responses lack, or ``free_vibration_s`` longer than the records or over a part
-            where the ground still moves.
+            responses lack, ``free_vibration_s`` longer than the records or over a part
+            where the ground still moves, or ``heights`` not of the records and stories.
         CapabilityError: the structure declares no stories.
     """
     stories = stories_of(structure)
     u, acceleration = _histories(responses, motions)
     stories.check_outputs(u.shape[2])
+    heights = record_heights(heights, stories, u.shape[0])
     if output_names is None:
         output_names = (
             structure.output_names
@@ -302,6 +308,7 @@ def compute(
         acceleration,
         motions,
         stories,
+        heights,
         _residual_window(motions, free_vibration_s),
         {c.name: _channel_history(responses, c.name, u.shape[:2]) for c in channels},
         channels,
@@ -351,6 +358,7 @@ def band_interval(
     motions: GroundMotions,
     *,
     free_vibration_s: float = 0.0,
+    heights: np.ndarray | None = None,
 ) -> DriftInterval:
     """Bounds on PID and RID from a band ``lower <= u(t) <= upper`` around each output's
     displacement history, by interval arithmetic: story ``s`` drifts within
@@ -368,7 +376,7 @@ def band_interval(
     Args:
         lower, upper: ``[n, T, n_outputs]`` displacement band in m (for example a
             refiner's ``interval``).
-        structure, motions, free_vibration_s: as in :func:`compute`.
+        structure, motions, free_vibration_s, heights: as in :func:`compute`.
     """
     stories = stories_of(structure)
     low, _ = _histories(lower, motions)
@@ -376,6 +384,7 @@ def band_interval(
     if low.shape != high.shape:
         raise InputError(f"band edges {low.shape} and {high.shape} must have one shape")
     stories.check_outputs(low.shape[2])
+    divisor = per_metre(stories, record_heights(heights, stories, low.shape[0]))
     window = _residual_window(motions, free_vibration_s)
     top = list(stories.upper)
     bottom_index = [0 if i is None else i for i in stories.lower]
@@ -384,13 +393,12 @@ def band_interval(
     bottom_high = np.where(ground, 0.0, high[:, :, bottom_index])
     drift_low = low[:, :, top] - bottom_high
     drift_high = high[:, :, top] - bottom_low
-    heights = per_metre(stories)
-    pid_lower = np.max(_distance_from_zero(drift_low, drift_high), axis=1) / heights
-    pid_upper = np.max(np.maximum(np.abs(drift_low), np.abs(drift_high)), axis=1) / heights
+    pid_lower = np.max(_distance_from_zero(drift_low, drift_high), axis=1) / divisor
+    pid_upper = np.max(np.maximum(np.abs(drift_low), np.abs(drift_high)), axis=1) / divisor
     mean_low = np.mean(drift_low[:, window], axis=1)
     mean_high = np.mean(drift_high[:, window], axis=1)
-    rid_lower = _distance_from_zero(mean_low, mean_high) / heights
-    rid_upper = np.maximum(np.abs(mean_low), np.abs(mean_high)) / heights
+    rid_lower = _distance_from_zero(mean_low, mean_high) / divisor
+    rid_upper = np.maximum(np.abs(mean_low), np.abs(mean_high)) / divisor
     return DriftInterval(pid_lower, pid_upper, rid_lower, rid_upper)
 
 
@@ -402,6 +410,7 @@ def interval(
     *,
     k: float = 1.0,
     free_vibration_s: float = 0.0,
+    heights: np.ndarray | None = None,
 ) -> DriftInterval:
     """Bounds on PID and RID of a prediction ``(mean, std)`` (each ``[n, T, n_outputs]`` in
     m, as ``CompositeModel.predict`` returns them): :func:`band_interval` of the band
@@ -417,7 +426,12 @@ def interval(
     mean = np.asarray(mean, dtype=np.float64)
     half = k * np.broadcast_to(np.asarray(std, dtype=np.float64), mean.shape)
     return band_interval(
-        mean - half, mean + half, structure, motions, free_vibration_s=free_vibration_s
+        mean - half,
+        mean + half,
+        structure,
+        motions,
+        free_vibration_s=free_vibration_s,
+        heights=heights,
     )
 
 
@@ -467,6 +481,33 @@ def scored_columns(edps: EDPs) -> dict[str, list[str]]:
         key: list(edps.columns[key][EDP_TABLE[key].first_location :])
         for key in scored_names(edps)
     }
+
+
+def record_heights(heights: np.ndarray | None, stories: Stories, n: int) -> np.ndarray | None:
+    """``heights`` checked as each of ``n`` records' story heights ``[n, n_stories]`` in m
+    (None stays None): finite and > 0 where ``stories`` have a height, ``nan`` where they
+    have none.
+
+    Raises:
+        InputError: another shape, or a height that breaks that rule.
+    """
+    if heights is None:
+        return None
+    heights = np.asarray(heights, dtype=np.float64)
+    if heights.shape != (n, stories.n_stories):
+        raise InputError(
+            f"story heights have shape {heights.shape}; they must be [n_records, n_stories] = "
+            f"[{n}, {stories.n_stories}]"
+        )
+    without = np.isnan(np.asarray(stories.heights_m, dtype=np.float64))
+    valid = np.where(without, np.isnan(heights), np.isfinite(heights) & (heights > 0.0))
+    if not valid.all():
+        record, story = (int(i[0]) for i in np.nonzero(~valid))
+        raise InputError(
+            f"record {record}'s height of story {story + 1} is {heights[record, story]}: a "
+            "story's height must be finite and > 0 m, or nan where the stories have none"
+        )
+    return heights
 
 
 def require_heights(stories: Stories, what: str) -> None:

@@ -38,6 +38,8 @@ class EDPInputs:
             only displacements are known.
         motions: the ``[n, T]`` ground accelerations (m/s^2) on the same grid.
         stories: the structure's stories.
+        heights: ``[n, n_stories]`` each record's story heights in m (``nan`` for a story
+            without height), or None where every record has the stories' own.
         residual: the samples whose mean drift is the residual drift.
         responses: name -> ``[n, T]`` history of each named response, in its channel's
             unit.
@@ -48,6 +50,7 @@ class EDPInputs:
     acceleration: np.ndarray | None
     motions: GroundMotions
     stories: Stories
+    heights: np.ndarray | None
     residual: slice
     responses: Mapping[str, np.ndarray]
     channels: tuple[ResponseChannel, ...]
@@ -55,7 +58,10 @@ class EDPInputs:
     def drift_ratios(self) -> np.ndarray:
         """``[n, T, n_stories]`` story drifts over the story heights (m/m; m for a story
         without height)."""
-        return self.stories.drifts(self.displacement) / per_metre(self.stories)
+        divisor = per_metre(self.stories, self.heights)
+        if divisor.ndim == 2:
+            divisor = divisor[:, None, :]
+        return self.stories.drifts(self.displacement) / divisor
 
     def floor_absolute_acceleration(self) -> np.ndarray:
         """``[n, T', n_floors]`` absolute accelerations of the floors, m/s^2: the recorded
@@ -110,10 +116,11 @@ class EDPDefinition:
         return 1 if self.axis == "floor" else 0
 
 
-def per_metre(stories: Stories) -> np.ndarray:
-    """``[n_stories]`` what a drift (m) is divided by: the height in m, or 1 for a story
-    without height (whose "ratio" is then its drift in m)."""
-    heights = np.asarray(stories.heights_m, dtype=np.float64)
+def per_metre(stories: Stories, heights: np.ndarray | None = None) -> np.ndarray:
+    """What a drift (m) is divided by: the height in m, or 1 for a story without height
+    (whose "ratio" is then its drift in m): ``[n_stories]`` for the stories' own heights,
+    ``[n, n_stories]`` for each record's ``heights [n, n_stories]``."""
+    heights = np.asarray(stories.heights_m if heights is None else heights, dtype=np.float64)
     return np.where(np.isnan(heights), 1.0, heights)
 
 

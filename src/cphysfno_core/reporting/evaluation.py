@@ -82,22 +82,27 @@ def edp_interval_scores(
     stories: Stories,
     motions: GroundMotions,
     truth: edp.EDPs,
+    heights: np.ndarray | None = None,
 ) -> dict[str, dict[str, list[float]]]:
     """Fraction of records per story whose true PID and RID lie within the bounds that a
-    fitted refiner's displacement intervals give (:func:`~cphysfno_core.edp.band_interval`),
-    at each of :data:`COVERAGE_LEVELS` (``edp_coverage_68``, ``edp_coverage_90``, each
-    ``{"PID": [n_stories], "RID": [n_stories]}``)."""
+    fitted refiner's displacement intervals give (:func:`~cphysfno_core.edp.band_interval`,
+    with the records' story ``heights [n, n_stories]`` in m where they differ), at each of
+    :data:`COVERAGE_LEVELS` (``edp_coverage_68``, ``edp_coverage_90``, each ``{"PID":
+    [n_stories], "RID": [n_stories]}``)."""
     found = {}
     for level in COVERAGE_LEVELS:
         lower, upper = refiner.interval(z, operator_output, level)
-        bounds = edp.band_interval(lower, upper, stories, motions)
+        bounds = edp.band_interval(lower, upper, stories, motions, heights=heights)
         found[f"edp_coverage_{round(100 * level)}"] = bounds.coverage(truth)
     return found
 
 
-def simulated_edps(data: Dataset, rows: np.ndarray, stories: Stories) -> edp.EDPs:
+def simulated_edps(
+    data: Dataset, rows: np.ndarray, stories: Stories, heights: np.ndarray | None = None
+) -> edp.EDPs:
     """The EDPs of the simulated records ``rows`` of ``data`` (PFA from the absolute
-    acceleration channel where the dataset has one; PR of its named responses)."""
+    acceleration channel where the dataset has one; PR of its named responses), with
+    those records' story ``heights [len(rows), n_stories]`` in m where they differ."""
     kept = [edp.ACCELERATION_EXTRA, *(c.name for c in data.response_channels)]
     extras = {name: data.extras[name][rows] for name in kept if name in data.extras}
     motions = GroundMotions(data.ag[rows], data.dt)
@@ -107,6 +112,7 @@ def simulated_edps(data: Dataset, rows: np.ndarray, stories: Stories) -> edp.EDP
         motions,
         output_names=data.output_names,
         channels=data.response_channels,
+        heights=heights,
     )
 
 
@@ -120,12 +126,21 @@ class EDPScorer:
         data: the dataset.
         train_rows: the training records the models learn from (and the baselines are
             fitted on).
+        heights: ``[n_records, n_stories]`` the story heights in m of every record of
+            ``data`` where a family's records differ in them, else None.
     """
 
-    def __init__(self, stories: Stories | None, data: Dataset, train_rows: np.ndarray) -> None:
+    def __init__(
+        self,
+        stories: Stories | None,
+        data: Dataset,
+        train_rows: np.ndarray,
+        heights: np.ndarray | None = None,
+    ) -> None:
         self.stories = stories
         self.data = data
         self.train_rows = train_rows
+        self.record_heights = heights
         self.motions = {split: data.motions(split) for split in ("val", "test")}
         self.predicted: dict[str, edp.EDPs] = {}
         self.truth: edp.EDPs | None = None
@@ -135,8 +150,18 @@ class EDPScorer:
             edp.ACCELERATION_EXTRA if edp.ACCELERATION_EXTRA in data.extras else "displacement"
         )
         if stories is not None:
-            self.truth = simulated_edps(data, data.rows("test"), stories)
-            self.validation_truth = simulated_edps(data, data.rows("val"), stories)
+            self.truth = simulated_edps(data, data.rows("test"), stories, self.heights("test"))
+            self.validation_truth = simulated_edps(
+                data, data.rows("val"), stories, self.heights("val")
+            )
+
+    def heights(self, split: str) -> np.ndarray | None:
+        """``[n, n_stories]`` the story heights (m) of the split's records, or None where
+        every record has the structure's own."""
+        if self.record_heights is None:
+            return None
+        rows = self.train_rows if split == "train" else self.data.rows(split)
+        return self.record_heights[rows]
 
     def errors(
         self, label: str, displacement: Any, validation: Any | None = None
@@ -150,7 +175,11 @@ class EDPScorer:
             return {}
         names = self.output_names
         predicted = edp.compute(
-            displacement, self.stories, self.motions["test"], output_names=names
+            displacement,
+            self.stories,
+            self.motions["test"],
+            output_names=names,
+            heights=self.heights("test"),
         )
         self.predicted[label] = predicted
         learned = isinstance(displacement, Responses) and edp.ACCELERATION_EXTRA in (
@@ -162,7 +191,11 @@ class EDPScorer:
         }
         if validation is not None:
             on_validation = edp.compute(
-                validation, self.stories, self.motions["val"], output_names=names
+                validation,
+                self.stories,
+                self.motions["val"],
+                output_names=names,
+                heights=self.heights("val"),
             )
             found["validation_edp"] = edp.log_errors(on_validation, self.validation_truth)
         return found
@@ -173,7 +206,7 @@ class EDPScorer:
         "validation_edp"}}`` (``{}`` for a structure without stories)."""
         if self.truth is None:
             return {}
-        train = simulated_edps(self.data, self.train_rows, self.stories)
+        train = simulated_edps(self.data, self.train_rows, self.stories, self.heights("train"))
         train_motions = GroundMotions(self.data.ag[self.train_rows], self.data.dt)
         fitted = baselines.fit_and_predict(
             train, train_motions, self.motions, first_period
