@@ -3,11 +3,11 @@ physics response and, with ``formulation.parameter_input``, enter the operator a
 channels; saved and loaded with the model; refused or warned about where they do not
 fit."""
 
-import tomllib
 import warnings
 
 import numpy as np
 import pytest
+from tiny_family_run import tiny_config
 
 import cphysfno_core as cp
 from cphysfno_core.plugin import Structure
@@ -180,31 +180,11 @@ stiffnesses = [{ dist = "lognormal", median = 4e7, beta = 0.3, unit = "N/m" }, 3
 story_law = { name = "bilinear", alpha = 0.05, yield_displacement = 0.01 }
 story_heights = [3.0, 3.0]
 
-[ground_motion]
-name = "white-noise"
-duration = 2.0
-
-[operator]
-name = "fno"
-layers = 1
-modes = 4
-width = 6
-
 [refiner]
 name = "linear-regression"
 
 [formulation]
 parameter_input = "both"
-
-[training]
-epochs = 1
-batch_size = 4
-
-[data]
-n_train = 6
-n_val = 3
-n_test = 3
-executor = "serial"
 """
 
 
@@ -214,7 +194,7 @@ def family_run(tmp_path_factory):
     from cphysfno_core.app import pipeline
 
     folder = tmp_path_factory.mktemp("family-run")
-    return folder, pipeline.run(cp.parse_config(tomllib.loads(RUN)), folder)
+    return folder, pipeline.run(tiny_config(RUN), folder)
 
 
 def test_a_run_trains_every_model_with_and_without_the_parameters(family_run):
@@ -289,7 +269,7 @@ def test_both_forms_are_for_a_run_and_a_model_takes_one():
 def test_parameter_inputs_need_random_parameters():
     fixed = RUN.replace('{ dist = "lognormal", median = 4e7, beta = 0.3, unit = "N/m" }', "4e7")
     with pytest.raises(cp.ConfigError, match="no random parameter to take as input"):
-        cp.parse_config(tomllib.loads(fixed))
+        tiny_config(fixed)
 
 
 def test_fragility_of_a_family_splits_record_to_record_and_modelling_dispersion(family_run):

@@ -2,10 +2,9 @@
 structure's heights, in the EDPs, the drift bounds, a run's error tables and the pelicun
 demands."""
 
-import tomllib
-
 import numpy as np
 import pytest
+from tiny_family_run import tiny_config
 
 import cphysfno_core as cp
 from cphysfno_core import edp
@@ -113,25 +112,6 @@ stiffnesses = [4e7, 3e7]
 story_law = { name = "bilinear", alpha = 0.05, yield_displacement = 0.01 }
 story_heights = [{ dist = "uniform", low = 2.5, high = 4.5, unit = "m" }, 3.0]
 
-[ground_motion]
-name = "white-noise"
-duration = 2.0
-
-[operator]
-name = "fno"
-layers = 1
-modes = 4
-width = 6
-
-[training]
-epochs = 1
-batch_size = 4
-
-[data]
-n_train = 6
-n_val = 3
-n_test = 4
-executor = "serial"
 """
 
 
@@ -140,7 +120,7 @@ def run_of_drawn_heights(tmp_path_factory):
     from cphysfno_core.app import pipeline
 
     folder = tmp_path_factory.mktemp("drawn-heights")
-    return folder, pipeline.run(cp.parse_config(tomllib.loads(RUN)), folder)
+    return folder, pipeline.run(tiny_config(RUN, n_test=4), folder)
 
 
 def _drift_ratios(u, heights):

@@ -334,6 +334,32 @@ class PhysicsPreprocessor(Component, ABC):
         default fits on ``structure``."""
         return self.fit(structure)
 
+    def calibration(self) -> dict[str, Any] | None:
+        """What fixes this fitted preprocessor to its structure, as JSON-compatible data, for
+        a family of structures to interpolate between the members it was fitted to
+        (:class:`~cphysfno_core.config.calibration_surface.CalibrationSurface`): its floats
+        are interpolated, its other leaves (strings, integers, booleans) are choices every
+        member shares. None (the default): the preprocessor is fitted to each member."""
+        return None
+
+    def refit_params(self) -> dict[str, Any]:
+        """The parameters of a preprocessor that fits another member of the family with
+        this fitted one's choices (a stick's story law, say), so that the members'
+        :meth:`calibration` share their non-float leaves; the default: its own."""
+        return self.get_params()
+
+    def calibrated(self, structure: Structure, calibration: dict[str, Any]) -> PhysicsPreprocessor:
+        """Fitted to ``structure`` from ``calibration`` (of the form :meth:`calibration`
+        gives) instead of the analysis :meth:`fit` makes.
+
+        Raises:
+            CapabilityError: the preprocessor has no calibration (the default).
+        """
+        raise CapabilityError(
+            f"preprocessor '{self.name}' has no calibration to interpolate: it is fitted to "
+            "each structure of a family"
+        )
+
 
 class NeuralOperator(torch.nn.Module):
     """A learned operator mapping ``[batch, T, in_channels]`` to ``[batch, T, out_channels]``.

@@ -17,6 +17,7 @@ import torch
 
 from ..api.interfaces import Structure
 from ..api.registry import get_registry
+from ..config.calibration_surface import CalibrationSurface
 from ..config.experiment import ExperimentConfig
 from ..data.datasets import Dataset, load_dataset
 from ..data.generation import generate_dataset
@@ -133,6 +134,7 @@ def train(
     val_p = data.parameter_draws("val")
     saved: dict[str, Path] = {}
     for operator, pp, form in _variants(config):
+        surface = None if pp is None else data.calibration_surfaces.get(pp.name)
         model = CompositeModel(
             operator,
             structure=structure,
@@ -141,6 +143,7 @@ def train(
             else registry.create("preprocessor", pp.name, **pp.params),
             training=config.training,
             formulation=form,
+            calibration_surface=None if surface is None else CalibrationSurface.from_dict(surface),
         )
         z_train = z_val = None
         if pp is not None:

@@ -82,6 +82,14 @@ class UncertaintyConfig(_Strict):
         "structures outside the family they were trained on (default: every record draws "
         "from the whole distributions)",
     )
+    physics: Literal["fit", "surface"] = Field(
+        "fit",
+        description="how each record's physics preprocessor is made: 'fit' fits it to the "
+        "record's own structure; 'surface' fits it to 2 k + 1 members of the family (the "
+        "nominal one and one on either side along each of the k parameters) and "
+        "interpolates its calibration between them (preprocessors with a calibration, "
+        "such as the stick; the others are fitted to each record)",
+    )
 
 
 class DataConfig(_Strict):

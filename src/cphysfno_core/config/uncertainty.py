@@ -227,6 +227,19 @@ def _walk(tree: Any, visit: Callable[[str, Any], Any], path: tuple[str, ...] = (
     return tree
 
 
+def numbers_in(tree: Any) -> dict[str, Any]:
+    """Dotted path -> every number of ``tree`` (tables, lists, numbers), in order."""
+    found: dict[str, Any] = {}
+
+    def keep(path: str, leaf: Any) -> Any:
+        if not is_distribution(leaf):
+            found[path] = leaf
+        return leaf
+
+    _walk(tree, keep)
+    return found
+
+
 def _order(path: str) -> tuple[Any, ...]:
     """Sort key of a dotted path: list positions in numeric order."""
     return tuple((0, int(part), "") if part.isdigit() else (1, 0, part) for part in path.split("."))
@@ -436,6 +449,11 @@ class UncertainParameters:
         for j, parameter in enumerate(self.parameters):
             draws[:, j] = parameter.distribution.values(z[:, j])
         return draws
+
+    def values_at(self, z: float) -> np.ndarray:
+        """``[k]`` each parameter's value at the standard normal number ``z`` of its own
+        distribution (``z = 0``: the medians)."""
+        return np.array([float(p.distribution.values(np.array([z]))[0]) for p in self.parameters])
 
     def columns(self, draws: np.ndarray) -> dict[str, np.ndarray]:
         """Path -> ``[n]`` values of draws ``[n, k]``."""

@@ -63,6 +63,9 @@ class Dataset:
         param_names: the dotted paths of the random parameters (``stiffnesses.0``), one
             per column of ``params``.
         param_units: the unit label of each column of ``params`` (empty where none).
+        calibration_surfaces: preprocessor name -> the calibration surface its records'
+            physics responses were made from (``[uncertainty] physics = "surface"``;
+            :meth:`~cphysfno_core.config.calibration_surface.CalibrationSurface.to_dict`).
     """
 
     ag: np.ndarray
@@ -81,6 +84,7 @@ class Dataset:
     params: np.ndarray | None = None
     param_names: tuple[str, ...] = ()
     param_units: tuple[str, ...] = ()
+    calibration_surfaces: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.collapsed is None:
@@ -287,15 +291,22 @@ def describe_arrays(
             f[path].attrs["description"] = description
 
 
-def write_draws(f: h5py.File, space: UncertainParameters, draws: np.ndarray) -> None:
+def write_draws(
+    f: h5py.File,
+    space: UncertainParameters,
+    draws: np.ndarray,
+    surfaces: dict[str, dict[str, Any]] | None = None,
+) -> None:
     """Keep each record's draw ``draws [N, k]`` of the random parameters ``space`` in the
-    open dataset ``f`` as ``params``, with their names and units; nothing for a fixed
+    open dataset ``f`` as ``params``, with their names and units, and the calibration
+    ``surfaces`` (preprocessor name -> surface) its physics came from; nothing for a fixed
     structure."""
     if not space.parameters:
         return
     stored = f.create_dataset("params", data=np.asarray(draws, dtype=np.float64))
     stored.attrs["names"] = json.dumps(list(space.names))
     stored.attrs["units"] = json.dumps(list(space.units))
+    stored.attrs["calibration_surfaces"] = json.dumps(surfaces or {})
     stored.attrs["description"] = (
         "each record's draw of the structure's random parameters [record, parameter]: "
         "names (dotted paths) and units in the attributes"
@@ -303,8 +314,8 @@ def write_draws(f: h5py.File, space: UncertainParameters, draws: np.ndarray) -> 
 
 
 def read_draws(f: h5py.File) -> dict[str, Any]:
-    """The :class:`Dataset` fields ``params``, ``param_names`` and ``param_units`` of the
-    open dataset ``f`` (none for a fixed structure)."""
+    """The :class:`Dataset` fields ``params``, ``param_names``, ``param_units`` and
+    ``calibration_surfaces`` of the open dataset ``f`` (none for a fixed structure)."""
     if "params" not in f:
         return {}
     stored = f["params"]
@@ -312,6 +323,7 @@ def read_draws(f: h5py.File) -> dict[str, Any]:
         "params": stored[...],
         "param_names": tuple(json.loads(stored.attrs["names"])),
         "param_units": tuple(json.loads(stored.attrs["units"])),
+        "calibration_surfaces": json.loads(stored.attrs.get("calibration_surfaces", "{}")),
     }
 
 

@@ -36,6 +36,7 @@ import numpy as np
 from ..api.interfaces import GroundMotionSource, Structure
 from ..api.registry import get_registry
 from ..config.allocator import tune_memory
+from ..config.calibration_surface import ANCHOR_Z, fit_surface
 from ..config.experiment import DataConfig, ExperimentConfig
 from ..config.uncertainty import UncertainParameters, distinct_draws, with_values
 from ..signals import GroundMotions
@@ -303,6 +304,29 @@ def check_draws(config: ExperimentConfig, space: UncertainParameters, draws: np.
             ) from None
 
 
+def calibration_surfaces(
+    config: ExperimentConfig,
+    structure: Structure,
+    space: UncertainParameters,
+    progress: bool = True,
+) -> dict[str, dict[str, Any]]:
+    """Preprocessor name -> the calibration surface
+    (:func:`~cphysfno_core.config.calibration_surface.fit_surface`, as its ``to_dict``) of
+    each preprocessor that has one, over the family ``space`` of ``structure`` with its
+    outer members at :data:`~cphysfno_core.config.calibration_surface.ANCHOR_Z` standard
+    deviations; empty unless ``[uncertainty] physics = "surface"``."""
+    if config.uncertainty is None or config.uncertainty.physics != "surface":
+        return {}
+    below, above = space.values_at(-ANCHOR_Z), space.values_at(ANCHOR_Z)
+    tell = show_progress if progress else None
+    found = {}
+    for pp in config.preprocessor:
+        surface = fit_surface(pp.to_dict(), structure, space.names, below, above, tell)
+        if surface is not None:
+            found[pp.name] = surface.to_dict()
+    return found
+
+
 def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool = True) -> Path:
     """Simulate ``config.data.n_records`` records into the HDF5 file ``path``.
 
@@ -326,6 +350,7 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     central = config.data.n_train + config.data.n_val
     draws = space.draw(config.data.n_records, config.data.seed, n_central=central)
     check_draws(config, space, draws)
+    surfaces = calibration_surfaces(config, structure, space, progress)
     parts = parts_folder(path)
     motions, chunk = _start(config, parts, identity)
     n = motions.n_records
@@ -333,9 +358,11 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
     todo = [i for i in range(len(bounds)) if not _chunk_path(parts, i).exists()]
     if progress and len(todo) < len(bounds):
         show_progress(f"  resuming: {len(bounds) - len(todo)} of {len(bounds)} chunks already done")
-    _simulate_chunks(config, space.names, draws, motions, bounds, todo, parts, progress)
+    _simulate_chunks(
+        config, (space.names, draws, surfaces), motions, bounds, todo, parts, progress
+    )
     messages, convergence = _assemble(
-        config, structure, (space, draws), motions, bounds, parts, path, identity
+        config, structure, (space, draws, surfaces), motions, bounds, parts, path, identity
     )
     shutil.rmtree(parts)
     _report_messages(messages, path, progress)
@@ -374,7 +401,8 @@ def progress_line(done: int, total: int, elapsed: float) -> str:
     return f"{done}/{total} records ({speed}, {time_left(left)})"
 
 
-def _simulate_chunks(config, parameters, draws, motions, bounds, todo, parts, progress) -> None:
+def _simulate_chunks(config, drawn, motions, bounds, todo, parts, progress) -> None:
+    parameters, draws, surfaces = drawn
     structure_spec = config.structure.to_dict()
     pp_specs = [p.to_dict() for p in config.preprocessor]
     total = sum(bounds[i][1] - bounds[i][0] for i in todo)
@@ -430,7 +458,7 @@ def _simulate_chunks(config, parameters, draws, motions, bounds, todo, parts, pr
     def arguments(i: int) -> tuple[Any, ...]:
         start, stop = bounds[i]
         rows = motions.rows(start, stop)
-        return structure_spec, pp_specs, rows, motions.dt, parameters, draws[start:stop]
+        return structure_spec, pp_specs, rows, motions.dt, parameters, draws[start:stop], surfaces
 
     run_tasks(simulate_chunk, todo, arguments, config.data, store)
 

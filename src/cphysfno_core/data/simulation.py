@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..api.registry import get_registry
+from ..config.calibration_surface import CalibrationSurface
 from ..config.uncertainty import distinct_draws, with_values
 from ..signals import GroundMotions
 from ..signals.errors import PluginError
@@ -49,9 +50,17 @@ class ChunkResult:
 
 
 class _Parts:
-    """Structure and fitted preprocessors rebuilt from their names and parameters."""
+    """Structure and fitted preprocessors rebuilt from their names and parameters; a
+    preprocessor with a calibration surface (of a family, by name) is fitted from the
+    calibration there at the structure's parameter ``values``."""
 
-    def __init__(self, structure_spec: dict[str, Any], preprocessor_specs: list[dict[str, Any]]):
+    def __init__(
+        self,
+        structure_spec: dict[str, Any],
+        preprocessor_specs: list[dict[str, Any]],
+        surfaces: dict[str, CalibrationSurface] | None = None,
+        values: dict[str, float] | None = None,
+    ):
         registry = get_registry()
         spec = dict(structure_spec)
         self.structure_entry = registry.entry("structure", spec.pop("name"))
@@ -61,7 +70,11 @@ class _Parts:
             pp_spec = dict(pp_spec)
             name = pp_spec.pop("name")
             entry = registry.entry("preprocessor", name)
-            self.preprocessors[name] = (entry, entry.cls(**pp_spec).fit(self.structure))
+            if surfaces and name in surfaces:
+                fitted = surfaces[name].preprocessor_at(self.structure, values)
+            else:
+                fitted = entry.cls(**pp_spec).fit(self.structure)
+            self.preprocessors[name] = (entry, fitted)
 
     def run(self, motions: GroundMotions) -> ChunkResult:
         """Simulate ``motions``; a malformed plugin output raises naming its provider."""
@@ -127,6 +140,7 @@ def simulate_chunk(
     dt: float,
     parameters: tuple[str, ...] = (),
     draws: np.ndarray | None = None,
+    surfaces: dict[str, dict[str, Any]] | None = None,
 ) -> ChunkResult:
     """Truth and physics responses of one chunk of records; runs in a worker process.
 
@@ -138,16 +152,19 @@ def simulate_chunk(
 
     With random parameters (their dotted ``parameters`` paths in ``structure_spec``, whose
     distributions they name, and ``draws [n, k]`` their values for each record), each
-    distinct draw builds its own structure and fits its own preprocessors, and simulates
-    the records that drew it.
+    distinct draw builds its own structure and fits its own preprocessors (from their
+    calibration ``surfaces``, preprocessor name -> surface document, where given), and
+    simulates the records that drew it.
     """
     motions = GroundMotions(acceleration, dt)
     if not parameters:
         return _simulate(_Parts(structure_spec, preprocessor_specs), motions)
+    surfaces = {name: CalibrationSurface.from_dict(s) for name, s in (surfaces or {}).items()}
     pieces = []
     for row, rows in distinct_draws(draws):
-        spec = with_values(structure_spec, dict(zip(parameters, row, strict=True)))
-        pieces.append((rows, _simulate(_Parts(spec, preprocessor_specs), motions[rows])))
+        values = dict(zip(parameters, row.tolist(), strict=True))
+        parts = _Parts(with_values(structure_spec, values), preprocessor_specs, surfaces, values)
+        pieces.append((rows, _simulate(parts, motions[rows])))
     return _gather(pieces, motions.n_records)
 
 

@@ -22,6 +22,7 @@ from ..api.interfaces import (
 )
 from ..api.registry import get_registry
 from ..config.allocator import tune_memory
+from ..config.calibration_surface import CalibrationSurface
 from ..config.experiment import ComponentSpec, FormulationConfig, TrainingConfig
 from ..config.precision import Precision, operator_precision
 from ..config.uncertainty import distinct_draws, value_at, with_values
@@ -84,7 +85,10 @@ class CompositeModel:
     random parameters) is a model of a family of structures: at prediction each record's
     ``params`` rebuild its structure for its physics response, and with
     ``formulation.parameter_input`` they also enter the operator as constant input
-    channels (see :mod:`.parameters`).
+    channels (see :mod:`.parameters`). With a ``calibration_surface`` (of its
+    preprocessor over the family, :mod:`.calibration_surface`) each record's preprocessor
+    is fitted from the calibration the surface gives at its parameters, not by the
+    preprocessor's own analysis.
     """
 
     def __init__(
@@ -95,11 +99,22 @@ class CompositeModel:
         refiner: Refiner | None = None,
         training: TrainingConfig | None = None,
         formulation: FormulationConfig | None = None,
+        calibration_surface: CalibrationSurface | None = None,
     ) -> None:
         if preprocessor is not None and structure is None:
             raise ConfigError("a physics preprocessor needs the structure it simplifies")
+        if calibration_surface is not None and (
+            preprocessor is None or calibration_surface.preprocessor["name"] != preprocessor.name
+        ):
+            own = calibration_surface.preprocessor["name"]
+            other = "no preprocessor" if preprocessor is None else repr(preprocessor.name)
+            raise ConfigError(
+                f"a calibration surface of preprocessor '{own}' serves a model of that "
+                f"preprocessor, not of {other}"
+            )
         self.structure = structure
         self.preprocessor = preprocessor
+        self.calibration_surface = calibration_surface
         self.refiner = refiner
         self.training = training or TrainingConfig()
         self.formulation = formulation or FormulationConfig()
@@ -152,7 +167,8 @@ class CompositeModel:
 
     def _physics(self, motions: GroundMotions, values: np.ndarray | None) -> np.ndarray | None:
         """:meth:`physics` at the parameter values ``[n, k]`` (None: the structure's
-        own): the preprocessor fitted anew to the structure of each distinct draw."""
+        own): the preprocessor fitted anew to the structure of each distinct draw, from
+        the calibration surface where the model has one."""
         if self.preprocessor is None:
             return None
         if values is None:
@@ -164,10 +180,13 @@ class CompositeModel:
             drawn = dict(zip(self.parameters.names, row.tolist(), strict=True))
             member = with_values(table, drawn)
             structure = registry.create("structure", self.structure.name, **member)
-            preprocessor = registry.create(
-                "preprocessor", self.preprocessor.name, **self.preprocessor.get_params()
-            )
-            z[rows] = preprocessor.fit(structure).transform(motions[rows])
+            if self.calibration_surface is not None:
+                preprocessor = self.calibration_surface.preprocessor_at(structure, drawn)
+            else:
+                preprocessor = registry.create(
+                    "preprocessor", self.preprocessor.name, **self.preprocessor.get_params()
+                ).fit(structure)
+            z[rows] = preprocessor.transform(motions[rows])
         return z
 
     def _parameter_values(self, params: ParameterValues | None, n: int) -> np.ndarray | None:

@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from ..api.interfaces import format_validation_error
 from ..api.registry import get_registry
+from ..config.calibration_surface import CalibrationSurface
 from ..config.experiment import FormulationConfig, TrainingConfig
 from ..signals import TimeGrid
 from ..signals.errors import DatasetError, PluginError
@@ -60,6 +61,11 @@ class SavedModel(BaseModel):
         None,
         description="a model of a family of structures: the names and units of the "
         "structural parameters it takes (their scale is in arrays.npz)",
+    )
+    calibration_surface: dict[str, Any] | None = Field(
+        None,
+        description="a model of a family whose preprocessor is fitted from a calibration "
+        "surface: the surface (CalibrationSurface.to_dict)",
     )
     providers: dict[str, str] = Field(
         default_factory=dict,
@@ -129,6 +135,9 @@ def save_model(model: Any, directory: str | Path) -> Path:
         "grid": None if model.grid is None else dataclasses.asdict(model.grid),
         "training_pga": getattr(model, "training_pga_", None),
         "parameters": None if model.parameters is None else model.parameters.description(),
+        "calibration_surface": None
+        if model.calibration_surface is None
+        else model.calibration_surface.to_dict(),
         "providers": _providers(model),
     }
     arrays = {
@@ -211,6 +220,9 @@ def load_model(directory: str | Path, factory: Callable[..., Any]) -> Any:
         refiner=build("refiner", saved.refiner),
         training=TrainingConfig.model_validate(saved.training),
         formulation=FormulationConfig.model_validate(saved.formulation),
+        calibration_surface=None
+        if saved.calibration_surface is None
+        else CalibrationSurface.from_dict(saved.calibration_surface),
     )
     input_mean, input_std, output_mean, output_std, validation_rmse = normalizers
     model.input_normalizer_ = Normalizer(input_mean, input_std)

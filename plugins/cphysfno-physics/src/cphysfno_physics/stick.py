@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import numpy as np
 from pydantic import Field
@@ -113,6 +113,37 @@ class Stick(PhysicsPreprocessor):
     def _built(self, calibration: StickCalibration, floors: np.ndarray) -> Stick:
         self.calibration_ = calibration
         self.stick_ = create("structure", "shear-building", **calibration.shear_building())
+        self.floors_ = floors
+        return self
+
+    def calibration(self) -> dict[str, Any]:
+        """The stick: the parameters of its ``shear-building`` (masses, story stiffnesses,
+        heights, the story law's name and its parameters per story, damping)."""
+        check_fitted(self, "stick_")
+        return self.stick_.get_params()
+
+    def refit_params(self) -> dict[str, Any]:
+        """These parameters with ``laws`` the law this stick chose: every member of a
+        family gets the same law."""
+        check_fitted(self, "stick_")
+        return {**self.get_params(), "laws": [self.stick_.get_params()["story_law"]["name"]]}
+
+    def calibrated(self, structure: Structure, calibration: dict[str, Any]) -> Stick:
+        """The stick ``calibration`` (the parameters of a ``shear-building``, as
+        :meth:`calibration` gives them) for ``structure``, without pushing it; its story
+        law's parameters are held within the bounds the fit allows them (an interpolated
+        calibration may overshoot one that sits at its bound). It has no ``calibration_``
+        (no pushover to show).
+
+        Raises:
+            CapabilityError, ConfigError: as :meth:`fit`, for the structure's stories.
+        """
+        self.check(structure)
+        floors = _floors(structure.stories(), structure.n_outputs, structure.name)
+        law = calibration["story_law"]
+        if law["name"] in LAW_SPACES:
+            calibration = {**calibration, "story_law": LAW_SPACES[law["name"]].held_within_fit(law)}
+        self.stick_ = create("structure", "shear-building", **calibration)
         self.floors_ = floors
         return self
 

@@ -29,6 +29,9 @@ MAX_ITERATIONS = 50
 POST_YIELD_SHARE = 0.2
 """Last fraction of the monotonic curve whose slope starts the post-yield stiffness."""
 
+ALPHA_BOUNDS = (0.0, 0.99)
+"""The post-yield stiffness ratio ``alpha`` the fit can reach."""
+
 
 @dataclass(frozen=True)
 class LawSpace:
@@ -40,6 +43,8 @@ class LawSpace:
         name: the story law's registry name.
         shape_starts: starting values of the shape parameters (one tuple per start).
         shape_bounds: ``(lower, upper)`` of each shape parameter.
+        shape_names: the law's parameter each shape parameter is, or None where it is
+            not one itself (Bouc-Wen's share of ``beta`` and ``gamma``).
         parameters: ``parameters(alpha, u_y, shape) -> dict`` of the law's ``Params``
             fields for one story (``u_y`` in m).
     """
@@ -47,9 +52,24 @@ class LawSpace:
     name: str
     shape_starts: tuple[tuple[float, ...], ...] = ((),)
     shape_bounds: tuple[tuple[float, float], ...] = ()
+    shape_names: tuple[str | None, ...] = ()
     parameters: Callable[[float, float, Sequence[float]], dict[str, float]] = field(
         default=lambda alpha, u_y, shape: {"alpha": alpha, "yield_displacement": u_y}
     )
+
+    def held_within_fit(self, story_law: dict[str, Any]) -> dict[str, Any]:
+        """``story_law`` (a ``shear-building``'s, one value per story of each parameter)
+        with each parameter the fit bounds held within those bounds: a calibration
+        interpolated between fitted sticks stays a law the fit could have made."""
+        bounds = {"alpha": ALPHA_BOUNDS}
+        bounds.update(
+            (name, b) for name, b in zip(self.shape_names, self.shape_bounds, strict=True) if name
+        )
+        held = dict(story_law)
+        for name, (low, high) in bounds.items():
+            if name in held:
+                held[name] = tuple(np.clip(np.asarray(held[name], dtype=np.float64), low, high))
+        return held
 
 
 def _bouc_wen(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, float]:
@@ -85,12 +105,14 @@ LAW_SPACES = {
         "bouc-wen",
         shape_starts=((1.5, 0.5), (4.0, 0.5), (10.0, 0.5)),
         shape_bounds=((1.0, 20.0), (0.02, 0.98)),
+        shape_names=("exponent", None),
         parameters=_bouc_wen,
     ),
     "pinching": LawSpace(
         "pinching",
         shape_starts=((0.5, 0.3, 0.3), (0.9, 0.8, 0.0)),
         shape_bounds=((0.05, 1.0), (0.05, 1.0), (0.0, 1.0)),
+        shape_names=("pinch_x", "pinch_y", "beta_unload"),
         parameters=_pinching,
     ),
 }
@@ -264,8 +286,8 @@ def fit_law(
     def residual(x: np.ndarray) -> np.ndarray:
         return ((shears(x) - cyclic.story_shear) / scale).ravel()
 
-    lower = np.tile([0.0, 1e-3, *(b[0] for b in space.shape_bounds)], d)
-    upper = np.tile([0.99, 1e3, *(b[1] for b in space.shape_bounds)], d)
+    lower = np.tile([ALPHA_BOUNDS[0], 1e-3, *(b[0] for b in space.shape_bounds)], d)
+    upper = np.tile([ALPHA_BOUNDS[1], 1e3, *(b[1] for b in space.shape_bounds)], d)
     sparsity = scipy.sparse.kron(
         scipy.sparse.identity(d), np.ones((cyclic.story_shear.shape[0], width))
     )
