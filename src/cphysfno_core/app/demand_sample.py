@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..config.uncertainty import per_record
 from ..data.datasets import load_dataset
 from ..data.layout import DATASET, run_file
 from ..data.record_stories import RecordStories
@@ -75,7 +76,7 @@ def write_demand_sample(
         params = drawn if model.parameters is not None else None
     standing = np.flatnonzero(~collapsed & ~stopped)
     if drawn:  # each standing record's parameters: for its heights, and the model's input
-        drawn = {name: np.broadcast_to(v, motions.n_records)[standing] for name, v in drawn.items()}
+        drawn = {name: v[standing] for name, v in per_record(drawn, motions.n_records).items()}
     heights = RecordStories(structure).heights(drawn, len(standing))
     params = drawn if params is not None else None
     responses = predict_skipping_failures(model, motions[standing], params)[0]

@@ -327,6 +327,15 @@ def value_at(params: Mapping[str, Any], path: str) -> float:
     return float(node)
 
 
+def per_record(params: Mapping[str, Any] | None, n: int) -> dict[str, np.ndarray]:
+    """Parameter path -> ``[n]`` each record's value of ``params`` (path -> ``[n]`` values,
+    or one value for every record); empty for None."""
+    return {
+        path: np.broadcast_to(np.asarray(v, dtype=np.float64), (n,))
+        for path, v in (params or {}).items()
+    }
+
+
 def distinct_draws(draws: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     """The distinct rows of ``draws [n, k]``, each with the indices ``[m]`` of the records
     that drew it, in the order of the rows' first records."""

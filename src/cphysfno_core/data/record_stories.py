@@ -17,7 +17,7 @@ import numpy as np
 
 from ..api.interfaces import Structure
 from ..api.registry import get_registry
-from ..config.uncertainty import distinct_draws, value_at, with_values
+from ..config.uncertainty import distinct_draws, per_record, value_at, with_values
 from ..signals import Stories
 from ..signals.errors import InputError
 
@@ -56,9 +56,7 @@ class RecordStories:
         """
         if not params:
             return None
-        columns = {
-            path: np.broadcast_to(np.asarray(v, np.float64), (n,)) for path, v in params.items()
-        }
+        columns = per_record(params, n)
         movers = [path for path, values in columns.items() if self._moves_heights(path, values)]
         if not movers:
             return None

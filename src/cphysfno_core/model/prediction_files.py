@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config.precision import Precision
+from ..config.uncertainty import per_record
 from ..signals import STANDARD_GRAVITY, GroundMotions, TimeGrid, read_at2
 from ..signals.errors import CphysfnoWarning, DatasetError, InputError
 from .composite import CompositeModel
@@ -292,9 +293,7 @@ def predict_file(
     if stages.acceleration is not None:
         arrays["acceleration"] = stages.acceleration
     if given:
-        arrays["params"] = np.column_stack(
-            [np.broadcast_to(v, motions.n_records) for v in given.values()]
-        )
+        arrays["params"] = np.column_stack(list(per_record(given, motions.n_records).values()))
         arrays["param_names"] = np.array(list(given))
     described = {k: v for k, v in PREDICTION_ARRAYS.items() if k in arrays}
     arrays["descriptions"] = np.array(json.dumps({**described, "model": model.label}))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..config.uncertainty import per_record
 from ..signals import GroundMotions, Responses
 from ..signals.errors import CphysfnoError
 from ..signals.histories import ACCELERATION_EXTRA
@@ -27,7 +28,7 @@ def predict_skipping_failures(
         ``(responses, failures)``: ``failures`` maps the index of each failed record in
         ``motions`` to the reason.
     """
-    params = {name: np.broadcast_to(v, motions.n_records) for name, v in (params or {}).items()}
+    params = per_record(params, motions.n_records)
     try:
         channels = _channels(model, motions, params)
         failures: dict[int, str] = {}
