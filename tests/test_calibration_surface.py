@@ -208,3 +208,23 @@ def test_a_run_on_the_surface_trains_and_predicts_on_the_same_physics(surface_ru
     refit = _refit(surface, first).transform(data.motions("test")[:1])
     error = np.linalg.norm(z[:1] - refit) / np.linalg.norm(refit)
     assert 0.0 < error < 0.03
+
+
+def test_a_fixed_structures_stick_is_fitted_once_for_every_chunk(tmp_path, monkeypatch):
+    fits = []
+    own_fit = Stick.fit
+    monkeypatch.setattr(Stick, "fit", lambda self, s: fits.append(s) or own_fit(self, s))
+    head = RUN.replace(
+        '[{ dist = "lognormal", median = 4e7, beta = 0.2, unit = "N/m" }, 3e7]', "[4e7, 3e7]"
+    ).replace('[uncertainty]\nphysics = "surface"\n', "")
+    config = tiny_config(head)
+    config = config.model_copy(update={"data": config.data.model_copy(update={"chunk_size": 4})})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cp.CphysfnoWarning)
+        cp.generate_dataset(config, tmp_path / "d.h5", progress=False)
+        data = cp.load_dataset(tmp_path / "d.h5")
+        assert len(fits) == 1
+        structure = cp.create("structure", config.structure.name, **config.structure.params)
+        spec = config.preprocessor[0].params
+        expected = Stick(**spec).fit(structure).transform(data.motions("test"))
+    np.testing.assert_allclose(data.physics("stick", "test"), expected, rtol=1e-12, atol=1e-15)

@@ -312,16 +312,28 @@ def calibration_surfaces(
 ) -> dict[str, dict[str, Any]]:
     """Preprocessor name -> the calibration surface
     (:func:`~cphysfno_core.config.calibration_surface.fit_surface`, as its ``to_dict``) of
-    each preprocessor that has one, over the family ``space`` of ``structure`` with its
-    outer members at :data:`~cphysfno_core.config.calibration_surface.ANCHOR_Z` standard
-    deviations; empty unless ``[uncertainty] physics = "surface"``."""
-    if config.uncertainty is None or config.uncertainty.physics != "surface":
-        return {}
-    below, above = space.values_at(-ANCHOR_Z), space.values_at(ANCHOR_Z)
-    tell = show_progress if progress else None
+    each preprocessor with a calibration that the chunks make from one: for a fixed
+    structure, its calibration fitted once here (a surface over no parameters) instead of
+    in every chunk; for a family with ``[uncertainty] physics = "surface"``, its surface
+    over ``space`` with the outer members at
+    :data:`~cphysfno_core.config.calibration_surface.ANCHOR_Z` standard deviations.
+
+    Every preprocessor is fitted to the nominal ``structure`` here, so that a missing
+    capability fails before any simulation.
+    """
+    family = bool(space.parameters)
+    spanned = family and config.uncertainty is not None and config.uncertainty.physics == "surface"
+    if spanned:
+        names, below, above = space.names, space.values_at(-ANCHOR_Z), space.values_at(ANCHOR_Z)
+    else:
+        names, below, above = (), np.zeros(0), np.zeros(0)
+    tell = show_progress if progress and spanned else None
     found = {}
     for pp in config.preprocessor:
-        surface = fit_surface(pp.to_dict(), structure, space.names, below, above, tell)
+        if family and not spanned:  # each member fits its own
+            get_registry().create("preprocessor", pp.name, **pp.params).fit(structure)
+            continue
+        surface = fit_surface(pp.to_dict(), structure, names, below, above, tell)
         if surface is not None:
             found[pp.name] = surface.to_dict()
     return found
@@ -344,8 +356,6 @@ def generate_dataset(config: ExperimentConfig, path: str | Path, progress: bool 
             show_progress(f"dataset {path} is complete: nothing to simulate")
         return path
     structure = check_setup(config)
-    for pp in config.preprocessor:  # fail on a missing capability before any simulation
-        get_registry().create("preprocessor", pp.name, **pp.params).fit(structure)
     space = config.uncertain_parameters()
     central = config.data.n_train + config.data.n_val
     draws = space.draw(config.data.n_records, config.data.seed, n_central=central)

@@ -150,16 +150,18 @@ def simulate_chunk(
     at a time to find which fail and why. A failed record's rows are NaN and its cause is
     in ``failures``.
 
-    With random parameters (their dotted ``parameters`` paths in ``structure_spec``, whose
-    distributions they name, and ``draws [n, k]`` their values for each record), each
-    distinct draw builds its own structure and fits its own preprocessors (from their
-    calibration ``surfaces``, preprocessor name -> surface document, where given), and
-    simulates the records that drew it.
+    A preprocessor with a calibration surface in ``surfaces`` (preprocessor name ->
+    surface document) is made from the calibration there instead of being fitted: for a
+    fixed structure, the calibration the parent fitted once. With random parameters (their
+    dotted ``parameters`` paths in ``structure_spec``, whose distributions they name, and
+    ``draws [n, k]`` their values for each record), each distinct draw builds its own
+    structure and fits (or makes) its own preprocessors, and simulates the records that
+    drew it.
     """
     motions = GroundMotions(acceleration, dt)
-    if not parameters:
-        return _simulate(_Parts(structure_spec, preprocessor_specs), motions)
     surfaces = {name: CalibrationSurface.from_dict(s) for name, s in (surfaces or {}).items()}
+    if not parameters:
+        return _simulate(_Parts(structure_spec, preprocessor_specs, surfaces, {}), motions)
     pieces = []
     for row, rows in distinct_draws(draws):
         values = dict(zip(parameters, row.tolist(), strict=True))
