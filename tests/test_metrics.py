@@ -119,3 +119,22 @@ def test_a_refiners_default_interval_is_the_gaussian_quantile_band():
     np.testing.assert_allclose(upper68 - 0.5, 2.0 * 0.9944579, rtol=1e-6)
     with pytest.raises(cp.InputError, match="level must lie in"):
         refiner.interval(u_hat, u_hat, 1.0)
+
+
+def test_record_relative_l2_is_the_median_of_each_records_by_hand():
+    truth = np.zeros((4, 2, 1))
+    truth[:, :, 0] = [[3.0, 4.0], [1.0, 0.0], [0.0, 2.0], [0.0, 0.0]]
+    prediction = truth.copy()
+    prediction[0, 0, 0] += 1.0  # record 0: 1 / 5
+    prediction[1, 1, 0] += 0.5  # record 1: 0.5 / 1
+    prediction[3, 0, 0] += 7.0  # record 3 has no response: left out
+    # record 2: 0; the median of 0.2, 0.5 and 0
+    assert metrics.record_relative_l2(prediction, truth).tolist() == pytest.approx([0.2])
+
+
+def test_the_largest_records_share_by_hand():
+    truth = np.zeros((3, 2, 2))
+    truth[0, 0, 0] = 1.0
+    truth[1, :, :] = 1.0  # 4
+    truth[2, 1, 1] = np.sqrt(3.0)  # 3
+    assert metrics.largest_record_share(truth) == pytest.approx(0.5)

@@ -67,7 +67,8 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
         "physics-toy-linear",
     }
     for row in document["models"].values():
-        assert len(row["rmse"]) == len(row["rel_l2"]) == 2
+        assert len(row["rmse"]) == len(row["rel_l2"]) == len(row["record_rel_l2"]) == 2
+    assert 0.0 < document["largest_record_share"] < 1.0
     refined = document["models"]["refined-c-phystoy-operator-toy-linear"]
     assert len(refined["coverage_68"]) == len(refined["coverage_90"]) == 2
     assert all(a <= b for a, b in zip(refined["coverage_68"], refined["coverage_90"], strict=True))
@@ -76,6 +77,8 @@ def test_run_writes_metrics_report_and_figures(toy_registry, tmp_path, capsys):
     largest = 100 * max(refined["coverage_68_se"])
     assert f"its standard error is at most {largest:.1f} points at 68 %" in report
     assert "| physics-toy-linear |" in report
+    share = document["largest_record_share"]
+    assert f"holds {share:.0%} of the test response's sum of squares" in report
     for figure in (
         "trajectories",
         "top_story_models",

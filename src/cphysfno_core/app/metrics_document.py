@@ -24,12 +24,14 @@ class ErrorRow(Row):
     Attributes:
         rmse: root mean square error (m, or m/s^2 for accelerations).
         rel_l2: relative L2 error.
+        record_rel_l2: the median over records of each record's relative L2 error.
         peak_r2: R^2 of the peak of the last DOF.
         validation_rel_l2: relative L2 error on the validation records.
     """
 
     rmse: list[float]
     rel_l2: list[float]
+    record_rel_l2: list[float] | None = None
     peak_r2: float | None = None
     validation_rel_l2: list[float] | None = None
 
@@ -102,6 +104,8 @@ class MetricsDocument(Document):
         left_out: ``"collapsed"``, ``"non_converged"``, ``"failed"`` -> split -> records
             left out.
         response_rms: root mean square of the simulated test response per output, m.
+        largest_record_share: the share of the test response's sum of squares that its
+            largest record holds (:func:`~cphysfno_core.reporting.metrics.largest_record_share`).
         epochs: training epochs.
         precision: the training arithmetic.
         worse_than_physics: label -> split -> ``(output, model error, physics error)``
@@ -118,6 +122,7 @@ class MetricsDocument(Document):
     sizes: dict[str, int]
     left_out: dict[str, dict[str, int]] = Field(default_factory=dict)
     response_rms: list[float] | None = None
+    largest_record_share: float | None = None
     epochs: int
     precision: str = "float32"
     worse_than_physics: dict[str, dict[str, list[tuple[str, float, float]]]] = Field(

@@ -297,6 +297,7 @@ def evaluate(
         "sizes": {**data.sizes, "train": calibration_records["training"]},
         "left_out": data.left_out(),
         "response_rms": np.sqrt(np.mean(test_u**2, axis=(0, 1))).tolist(),
+        "largest_record_share": metrics.largest_record_share(test_u),
         "epochs": config.training.epochs,
         "precision": config.training.precision,
         "worse_than_physics": worse,

@@ -44,11 +44,13 @@ COVERAGE_LEVELS = (0.68, 0.90)
 
 
 def metric_row(prediction: np.ndarray, truth: np.ndarray) -> dict:
-    """``rmse`` (m) and ``rel_l2`` per DOF and ``peak_r2`` of the last DOF, for
-    ``[n, T, dof]`` predictions and truth."""
+    """``rmse`` (m), ``rel_l2`` and ``record_rel_l2`` (the median over records of each
+    record's) per DOF and ``peak_r2`` of the last DOF, for ``[n, T, dof]`` predictions and
+    truth."""
     return {
         "rmse": metrics.rmse(prediction, truth).tolist(),
         "rel_l2": metrics.relative_l2(prediction, truth).tolist(),
+        "record_rel_l2": metrics.record_relative_l2(prediction, truth).tolist(),
         "peak_r2": metrics.peak_r2(prediction, truth),
     }
 

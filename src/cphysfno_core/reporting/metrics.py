@@ -33,6 +33,31 @@ def relative_l2(prediction: np.ndarray, truth: np.ndarray) -> np.ndarray:
     return np.sqrt(np.sum((prediction - truth) ** 2, axis=(0, 1)) / np.sum(truth**2, axis=(0, 1)))
 
 
+def record_relative_l2(prediction: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """Median over records of each record's relative L2 error, per DOF: ``sqrt(sum_t (pred
+    - truth)^2 / sum_t truth^2)`` record by record; records whose truth is zero at a DOF
+    are left out there (NaN where none is left). Unlike :func:`relative_l2`, which pools
+    every record and is ruled by the strongest, it says how a typical record is
+    predicted."""
+    prediction, truth = _pair(prediction, truth)
+    error = np.sum((prediction - truth) ** 2, axis=1)
+    size = np.sum(truth**2, axis=1)
+    ratio = np.sqrt(np.divide(error, size, out=np.full_like(error, np.nan), where=size > 0))
+    return np.array(
+        [np.median(c[np.isfinite(c)]) if np.isfinite(c).any() else np.nan for c in ratio.T]
+    )
+
+
+def largest_record_share(truth: np.ndarray) -> float:
+    """The share of ``sum truth^2`` (over records, samples and DOFs of ``[n, T, dof]``) that
+    its largest record holds: near ``1 / n`` when the records are alike, near 1 when one
+    record rules :func:`relative_l2`."""
+    truth = np.asarray(truth, dtype=np.float64)
+    energy = np.sum(truth**2, axis=tuple(range(1, truth.ndim)))
+    total = float(np.sum(energy))
+    return float(np.max(energy)) / total if total > 0 else float("nan")
+
+
 def peak_r2(prediction: np.ndarray, truth: np.ndarray, dof: int = -1) -> float:
     """Coefficient of determination of the peak absolute response of one DOF across records."""
     prediction, truth = _pair(prediction, truth)

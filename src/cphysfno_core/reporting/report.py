@@ -13,7 +13,7 @@ from ..data.datasets import SPLITS
 from ..data.layout import MODELS
 from ..model.labels import ModelLabel
 from ..signals.intensity import SpectrumBand
-from . import edp, figures
+from . import edp, figures, metrics
 from .against_physics import describe_shortfalls
 from .baselines import describe_beaten
 from .edp import ACCELERATION_EXTRA
@@ -51,6 +51,25 @@ def _markdown_table(
             cells = paper.beside(label, metric, cells, digits)
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
+
+
+def _record_by_record(models: dict[str, dict], names: list[str], truth: np.ndarray) -> list[str]:
+    """The median over the test records of each record's relative L2 error, with the share
+    of the test response the largest record holds."""
+    rows = {label: row for label, row in models.items() if row.get("record_rel_l2")}
+    if not rows:
+        return []
+    share = metrics.largest_record_share(truth)
+    lines = [
+        "",
+        "## Relative L2 error record by record (test split)",
+        "",
+        "The median over the test records of each record's relative L2 error: how a typical "
+        f"record is predicted. The pooled error above is ruled by the strongest records: the "
+        f"largest of the {len(truth)} holds {share:.0%} of the test response's sum of squares.",
+        "",
+    ]
+    return lines + _markdown_table(rows, names, "record_rel_l2", 4, None)
 
 
 def _physics_section(out: Path) -> list[str]:
@@ -235,6 +254,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
     lines += draws_section(config.uncertain_parameters(), evaluation.data, figure)
     lines += ["", "## Relative L2 error (test split)", ""]
     lines += _markdown_table(models, names, "rel_l2", 4, paper)
+    lines += _record_by_record(models, names, evaluation.data.targets("test"))
     lines += ["", "## RMSE (m, test split)", ""]
     lines += _markdown_table(models, names, "rmse", 4, paper)
     accelerating = {k: v["acceleration"] for k, v in models.items() if "acceleration" in v}
