@@ -298,6 +298,33 @@ def test_fragility_of_a_family_splits_record_to_record_and_modelling_dispersion(
     assert drawn != medians
 
 
+def test_records_the_median_pass_cannot_predict_are_counted(family_run, monkeypatch):
+    from cphysfno_core.app import fragility_study
+    from cphysfno_core.app.fragility_study import parse_limit_states, run_fragility
+
+    own = fragility_study.predict_skipping_failures
+
+    def failing_at_medians(model, motions, params=None):
+        responses, failures = own(model, motions, params)
+        if params is None:
+            responses.displacement[0] = np.nan
+            failures = {0: "no physics at the medians", **failures}
+        return responses, failures
+
+    monkeypatch.setattr(fragility_study, "predict_skipping_failures", failing_at_medians)
+    document = run_fragility(
+        family_run[0],
+        limit_states=parse_limit_states("pid=0.0005,0.001"),
+        records=30,
+        model_label="c-physfno-els-params",
+        n_bootstrap=5,
+        progress=False,
+    )
+    skipped = document["skipped_records"]
+    assert skipped["large"]["count"] == 0
+    assert skipped["large-medians"] == {"count": 1, "first": {"0": "no physics at the medians"}}
+
+
 def test_the_dispersion_split_adds_by_the_square_root_of_the_sum_of_squares():
     from cphysfno_core.app.fragility_study import dispersion_split
 

@@ -35,7 +35,7 @@ from __future__ import annotations
 import json
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -367,6 +367,15 @@ def run_fragility(
         "skipped_records": {
             "test": _skipped(test_failures, np.flatnonzero(standing)),
             "large": _skipped(large.failures, np.arange(large.intensity.size)),
+            **(
+                {}
+                if large.median_demands is None
+                else {
+                    "large-medians": _skipped(
+                        large.median_failures, np.arange(large.intensity.size)
+                    )
+                }
+            ),
         },
         "collapse": None
         if collapse is None
@@ -553,6 +562,7 @@ class LargeAnalysis:
         median_demands: for a model of a family whose records drew their parameters, the
             EDPs of the same records predicted with every parameter at its median (None
             otherwise).
+        median_failures: record index -> why its prediction at the medians failed.
     """
 
     intensity: np.ndarray
@@ -561,6 +571,7 @@ class LargeAnalysis:
     extrapolated: int
     failures: dict[int, str]
     median_demands: edp.EDPs | None = None
+    median_failures: dict[int, str] = field(default_factory=dict)
 
 
 def _large_analysis(
@@ -596,6 +607,7 @@ def _large_analysis(
     distinct = None
     extrapolated = 0
     failures: dict[int, str] = {}
+    median_failures: dict[int, str] = {}
     training_pga = getattr(model, "training_pga_", None)
     draws = None if space is None else space.draw(n, seed)
     for start in range(0, n, CHUNK):
@@ -612,8 +624,9 @@ def _large_analysis(
             params = None if draws is None else space.columns(draws[start:stop])
             responses, failed = predict_skipping_failures(model, chunk, params)
             if draws is not None:
-                at_medians, _ = predict_skipping_failures(model, chunk)
+                at_medians, failed_at_medians = predict_skipping_failures(model, chunk)
                 median_parts.append(edp.compute(at_medians, family.stories, chunk))
+                median_failures.update({start + i: why for i, why in failed_at_medians.items()})
         failures.update({start + i: why for i, why in failed.items()})
         heights = family.heights(params, chunk.n_records)
         parts.append(edp.compute(responses, family.stories, chunk, heights=heights))
@@ -639,7 +652,13 @@ def _large_analysis(
         )
     medians = edp.EDPs.concatenate(median_parts) if median_parts else None
     return LargeAnalysis(
-        np.concatenate(intensities), demands, distinct, extrapolated, failures, medians
+        np.concatenate(intensities),
+        demands,
+        distinct,
+        extrapolated,
+        failures,
+        medians,
+        median_failures,
     )
 
 
