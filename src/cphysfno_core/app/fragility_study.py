@@ -625,11 +625,11 @@ def _large_analysis(
             responses, failed = predict_skipping_failures(model, chunk, params)
             if draws is not None:
                 at_medians, failed_at_medians = predict_skipping_failures(model, chunk)
-                median_parts.append(edp.compute(at_medians, family.stories, chunk))
+                median_parts.append(edp.compute(at_medians, family.structure, chunk))
                 median_failures.update({start + i: why for i, why in failed_at_medians.items()})
         failures.update({start + i: why for i, why in failed.items()})
         heights = family.heights(params, chunk.n_records)
-        parts.append(edp.compute(responses, family.stories, chunk, heights=heights))
+        parts.append(edp.compute(responses, family.structure, chunk, heights=heights))
         intensities.append(im.of(chunk))
         if progress:
             elapsed = time.perf_counter() - started

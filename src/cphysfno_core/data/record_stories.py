@@ -30,10 +30,12 @@ class RecordStories:
             parameters are dotted paths of its ``get_params()`` table).
 
     Attributes:
-        stories: the nominal structure's stories.
+        structure: the nominal structure.
+        stories: its stories.
     """
 
     def __init__(self, structure: Structure) -> None:
+        self.structure = structure
         self._name = structure.name
         self._table = structure.get_params()
         self.stories = structure.stories()
