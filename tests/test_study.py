@@ -76,7 +76,7 @@ def test_the_summary_is_the_mean_and_std_of_the_table_runs(finished):
     written = json.loads((out / "study.json").read_text())
     assert written["schema_version"] == 1 and StudySummary.read(out / "study.json") == summary
     refined = written["models"]["refined-c-phystoy-operator-toy-linear"]
-    assert set(refined) == {"rel_l2", "rmse", "coverage_68", "coverage_90"}
+    assert set(refined) == {"rel_l2", "rmse", "record_rel_l2", "coverage_68", "coverage_90"}
 
 
 def test_sweeps_train_the_baseline_and_the_chosen_physics_per_value_and_seed(finished):
@@ -389,16 +389,27 @@ def test_a_training_size_sweep_draws_the_edp_learning_curve_with_the_baselines(
     assert {"baseline-cloud", "baseline-gp", "toy-operator", "physics-toy-linear"} <= set(curve)
     small = json.loads((tmp_path / "runs/size/6/seed-0/metrics.json").read_text())
     cloud = small["baselines"]["baseline-cloud"]["edp"]
-    assert curve["baseline-cloud"]["6"] == [{key: cloud[key]["median"] for key in ("PID", "PFA")}]
+    assert curve["baseline-cloud"]["6"] == [{key: cloud[key]["median"] for key in cloud}]
+    assert {"PID", "PFA", "PFV", "PD"} <= set(cloud)
     # the baselines are fitted on the sweep's training records, not the whole split
     large = json.loads((tmp_path / "runs/size/10/seed-0/metrics.json").read_text())
     assert large["baselines"]["baseline-cloud"]["edp"] != cloud
     table = json.loads((tmp_path / "runs/table/seed-0/metrics.json").read_text())
     pid = table["models"]["toy-operator"]["edp"]["PID"]["median"]
     np.testing.assert_allclose(summary.models["toy-operator"].pid_median.mean, pid)
+    row = table["models"]["toy-operator"]
+    np.testing.assert_allclose(
+        summary.models["toy-operator"].pd_median.mean, row["edp"]["PD"]["median"]
+    )
+    np.testing.assert_allclose(
+        summary.models["toy-operator"].record_rel_l2.mean, row["record_rel_l2"]
+    )
     assert set(summary.baselines) == {"baseline-cloud", "baseline-gp"}
+    assert summary.baselines["baseline-gp"].pfv_median is not None
 
     report = write_study_report(config, summary, tmp_path).read_text()
     assert "## EDP errors (test split)" in report and "| baseline-gp |" in report
+    assert "### Peak floor velocity" in report and "### Peak output displacement" in report
+    assert "## Relative L2 error record by record (test split)" in report
     assert "figures/learning-curve-size.png" in report
     assert (tmp_path / "figures/learning-curve-size.png").stat().st_size > 10_000

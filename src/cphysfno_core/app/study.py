@@ -329,18 +329,20 @@ def _mean_std(rows: list[list[float]]) -> dict[str, list[float]]:
     return {"mean": values.mean(axis=0).tolist(), "std": values.std(axis=0).tolist()}
 
 
-EDP_SUMMARY = {"pid_median": "PID", "pfa_median": "PFA"}
-"""Keys of a summary row -> the EDP whose median test error (per story or floor) they hold,
-as mean and std over seeds."""
+EDP_SUMMARY = {"pid_median": "PID", "pfa_median": "PFA", "pfv_median": "PFV", "pd_median": "PD"}
+"""Keys of a summary row -> the EDP whose median test error (per story, floor or output)
+they hold, as mean and std over seeds."""
 
 
 def _edp_summary(rows: list[ModelRow] | list[BaselineRow]) -> dict[str, Any]:
-    """``pid_median`` and ``pfa_median`` over the rows of one model (``{}`` without EDPs)."""
-    if rows[0].edp is None:
+    """The :data:`EDP_SUMMARY` entries over the rows of one model that every row has (``{}``
+    without EDPs)."""
+    if any(row.edp is None for row in rows):
         return {}
     return {
         key: _mean_std([row.edp[edp_name]["median"] for row in rows])
         for key, edp_name in EDP_SUMMARY.items()
+        if all(edp_name in row.edp for row in rows)
     }
 
 
@@ -351,7 +353,9 @@ def _sweep_edps(rows: list[tuple[Any, MetricsDocument]]) -> dict[str, dict[str, 
     for value, document in rows:
         for label, row in {**document.models, **document.baselines}.items():
             if row.edp is not None:
-                medians = {key: row.edp[key]["median"] for key in EDP_SUMMARY.values()}
+                medians = {
+                    key: row.edp[key]["median"] for key in EDP_SUMMARY.values() if key in row.edp
+                }
                 found.setdefault(label, {}).setdefault(str(value), []).append(medians)
     return found
 
@@ -366,8 +370,8 @@ def _summary(
         rows = [document.models[label] for document in documents]
         models[label] = {
             key: _mean_std([getattr(row, key) for row in rows])
-            for key in ("rel_l2", "rmse", "coverage_68", "coverage_90")
-            if getattr(rows[0], key) is not None
+            for key in ("rel_l2", "rmse", "record_rel_l2", "coverage_68", "coverage_90")
+            if all(getattr(row, key) is not None for row in rows)
         }
         models[label].update(_edp_summary(rows))
     first = documents[0]
@@ -426,15 +430,17 @@ def summarise(config: ExperimentConfig, runs: list[Run]) -> StudySummary:
         runs: finished runs (every one with ``metrics.json``), at least one of the table.
 
     Returns:
-        ``models``: label -> ``{"rel_l2": {"mean", "std"}, "rmse": {...}}`` per DOF over the
-        table's seeds (standard deviation with ``ddof = 0``), plus ``coverage_68`` and
-        ``coverage_90`` likewise for refined models, and ``pid_median`` / ``pfa_median``
-        (the median test ``|ln|`` error per story / floor) where the structure has
-        stories; ``baselines``: label -> those two for each baseline (fitted on the
-        training data, the same for every seed); ``sweeps``: name -> field, values,
+        ``models``: label -> ``{"rel_l2": {"mean", "std"}, "rmse": {...}, "record_rel_l2":
+        {...}}`` per DOF over the table's seeds (standard deviation with ``ddof = 0``), plus
+        ``coverage_68`` and ``coverage_90`` likewise for refined models, and the
+        :data:`EDP_SUMMARY` entries (``pid_median``, ``pfa_median``, ``pfv_median``,
+        ``pd_median``: the median test ``|ln|`` error per story / floor / output) where the
+        structure has stories; ``baselines``: label -> those for each baseline (fitted on
+        the training data, the same for every seed); ``sweeps``: name -> field, values,
         label -> value -> per-seed ``rel_l2`` per DOF, and ``edp``: label (models and
-        baselines) -> value -> per-seed ``{"PID", "PFA"}`` medians (values with a finished
-        run only); and the table runs' seeds, epochs, split sizes, output names and device.
+        baselines) -> value -> per-seed ``{"PID", "PFA", "PFV", "PD"}`` medians (values with
+        a finished run only); and the table runs' seeds, epochs, split sizes, output names
+        and device.
     """
     documents = {run.folder: MetricsDocument.read(run.folder / "metrics.json") for run in runs}
     table = [run for run in runs if run.group == TABLE]

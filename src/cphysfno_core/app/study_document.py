@@ -18,11 +18,14 @@ class MeanStd(Row):
 
 
 class EDPSummary(Row):
-    """The median test ``|ln(predicted / simulated)|`` of PID per story (``pid_median``)
-    and of PFA per floor above the ground (``pfa_median``), over seeds."""
+    """The median test ``|ln(predicted / simulated)|`` of PID per story (``pid_median``),
+    of PFA and PFV per floor above the ground (``pfa_median``, ``pfv_median``) and of PD
+    per output (``pd_median``), over seeds."""
 
     pid_median: MeanStd | None = None
     pfa_median: MeanStd | None = None
+    pfv_median: MeanStd | None = None
+    pd_median: MeanStd | None = None
 
 
 class SummaryRow(EDPSummary):
@@ -37,6 +40,7 @@ class SummaryRow(EDPSummary):
 
     rel_l2: MeanStd
     rmse: MeanStd
+    record_rel_l2: MeanStd | None = None
     coverage_68: MeanStd | None = None
     coverage_90: MeanStd | None = None
 
@@ -50,7 +54,8 @@ class Sweep(Row):
         values: the values with a finished run, in the config's order.
         rel_l2: label -> str(value) -> per-seed relative L2 per DOF.
         edp: label (models and baselines) -> str(value) -> per-seed ``{"PID": [...],
-            "PFA": [...]}`` median test errors.
+            "PFA": [...], ...}`` median test errors (those of :data:`EDP_SUMMARY` the runs
+            have).
     """
 
     field: str

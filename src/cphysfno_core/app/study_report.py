@@ -63,8 +63,13 @@ def _edp_tables(summary: StudySummary) -> list[str]:
     for key, what in (
         ("pid_median", "Peak story drift ratio"),
         ("pfa_median", "Peak floor acceleration"),
+        ("pfv_median", "Peak floor velocity"),
+        ("pd_median", "Peak output displacement"),
     ):
-        width = len(getattr(next(iter(rows.values())), key).mean)
+        having = {label: row for label, row in rows.items() if getattr(row, key) is not None}
+        if not having:
+            continue
+        width = len(getattr(next(iter(having.values())), key).mean)
         lines += [
             "",
             f"### {what}",
@@ -72,7 +77,7 @@ def _edp_tables(summary: StudySummary) -> list[str]:
             "| model | " + " | ".join(f"{i + 1}" for i in range(width)) + " |",
         ]
         lines.append("|---" * (width + 1) + "|")
-        for label, row in rows.items():
+        for label, row in having.items():
             part = getattr(row, key)
             cells = [f"{m:.3f} ± {d:.3f}" for m, d in zip(part.mean, part.std, strict=True)]
             lines.append(f"| {label} | " + " | ".join(cells) + " |")
@@ -109,6 +114,16 @@ def write_study_report(config: ExperimentConfig, summary: StudySummary, out: str
     if paper:
         lines.append(f"- in parentheses: the paper's {paper.caption}")
     lines += ["", "## Relative L2 error (test split)", "", *_table(summary, "rel_l2", 4, paper)]
+    if all(row.record_rel_l2 is not None for row in summary.models.values()):
+        lines += [
+            "",
+            "## Relative L2 error record by record (test split)",
+            "",
+            "The median over the test records of each record's relative L2 error (the "
+            "pooled error above is ruled by the strongest records).",
+            "",
+            *_table(summary, "record_rel_l2", 4, None),
+        ]
     lines += ["", "## RMSE (m, test split)", "", *_table(summary, "rmse", 4, paper)]
     lines += _coverage(summary)
     lines += _edp_tables(summary)
