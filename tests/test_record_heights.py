@@ -96,6 +96,13 @@ def test_record_stories_find_the_parameters_that_move_the_heights():
         assert tuple(row) == _building(story_heights=heights).stories().heights_m
 
 
+def test_a_first_call_at_the_nominal_value_decides_nothing():
+    family = RecordStories(_building())
+    assert family.heights({"story_heights.1": np.array([3.5, 3.5])}, 2) is None
+    found = family.heights({"story_heights.1": np.array([3.5, 4.5])}, 2)
+    np.testing.assert_array_equal(found, [[3.0, 3.5, 3.0], [3.0, 4.5, 3.0]])
+
+
 def test_every_story_height_drawn_as_one_number_moves_every_story():
     family = RecordStories(_building(story_heights=3.0))
     found = family.heights({"story_heights": np.array([2.5, 4.0])}, 2)

@@ -70,14 +70,16 @@ class RecordStories:
 
     def _moves_heights(self, path: str, values: np.ndarray) -> bool:
         """Whether the parameter ``path`` moves the story heights: the structure with it
-        alone at the drawn value farthest from its nominal one has other heights."""
-        if path not in self._moves:
-            nominal = value_at(self._table, path)
-            farthest = float(values[np.argmax(np.abs(values - nominal))])
-            moved = farthest != nominal and not np.array_equal(
-                self._heights_at({path: farthest}), self._nominal, equal_nan=True
-            )
-            self._moves[path] = moved
+        alone at the drawn value farthest from its nominal one has other heights (found
+        once, at the first values away from the nominal one)."""
+        if path in self._moves:
+            return self._moves[path]
+        nominal = value_at(self._table, path)
+        farthest = float(values[np.argmax(np.abs(values - nominal))])
+        if farthest == nominal:  # every record at the nominal value: nothing to find yet
+            return False
+        heights = self._heights_at({path: farthest})
+        self._moves[path] = not np.array_equal(heights, self._nominal, equal_nan=True)
         return self._moves[path]
 
     def _heights_at(self, values: dict[str, float]) -> np.ndarray:
