@@ -71,7 +71,10 @@ class CalibrationSurface:
         return np.all(members > 0.0, axis=0)
 
     def numbers_at(self, values: np.ndarray) -> np.ndarray:
-        """``[m]`` the calibration's floats at the parameter ``values [k]``."""
+        """``[m]`` the calibration's floats at the parameter ``values [k]`` (a surface over
+        no parameters: its one member's, exactly)."""
+        if not self.names:
+            return self.at_centre.copy()
         logged = self.logged
 
         def space(x: np.ndarray) -> np.ndarray:
