@@ -413,3 +413,21 @@ def test_a_parameter_the_structure_does_not_have_is_refused_at_fit(family):
             motions[:8], u[:8], validation=(motions[8:], u[8:]), params=wrong,
             validation_params={"stiffnesses.7": np.full(4, 4e7)}, progress=None,
         )  # fmt: skip
+
+
+def test_a_draw_seen_before_is_not_fitted_again(family, monkeypatch):
+    from cphysfno_core.model import composite
+
+    model = _fit(family)
+    motions, _, params = family
+    model._members.clear()  # the fit kept the draws it saw
+    first = {k: v[:3] for k, v in params.items()}
+    z = model.physics(motions[:3], params=first)
+    kept = dict(model._members)
+    assert len(kept) == 3
+    again = model.physics(motions[:3], params=first)
+    assert np.array_equal(z, again)
+    assert all(model._members[row] is member for row, member in kept.items())
+    monkeypatch.setattr(composite, "MEMBERS_KEPT", 1)
+    model.physics(motions[3:5], params={k: v[3:5] for k, v in params.items()})
+    assert list(model._members) == [tuple(np.column_stack(list(params.values()))[4])]

@@ -47,6 +47,10 @@ from .training import (
     train_operator,
 )
 
+MEMBERS_KEPT = 256
+"""How many members of a family (their fitted preprocessors, by draw) a model keeps
+between predictions."""
+
 PREDICT_CHUNK = 8
 """Records per operator call in prediction: the activations of a chunk (a few MiB per
 record at the paper's sizes) stay small and are reused from chunk to chunk."""
@@ -115,6 +119,7 @@ class CompositeModel:
         self.structure = structure
         self.preprocessor = preprocessor
         self.calibration_surface = calibration_surface
+        self._members: dict[tuple[float, ...], PhysicsPreprocessor] = {}
         self.refiner = refiner
         self.training = training or TrainingConfig()
         self.formulation = formulation or FormulationConfig()
@@ -167,27 +172,38 @@ class CompositeModel:
 
     def _physics(self, motions: GroundMotions, values: np.ndarray | None) -> np.ndarray | None:
         """:meth:`physics` at the parameter values ``[n, k]`` (None: the structure's
-        own): the preprocessor fitted anew to the structure of each distinct draw, from
-        the calibration surface where the model has one."""
+        own): the preprocessor of the structure of each distinct draw (:meth:`_member`)."""
         if self.preprocessor is None:
             return None
         if values is None:
             return self.preprocessor.transform(motions)
-        registry = get_registry()
-        table = self.structure.get_params()
         z = np.empty((*motions.acceleration.shape, self.structure.n_outputs))
         for row, rows in distinct_draws(values):
-            drawn = dict(zip(self.parameters.names, row.tolist(), strict=True))
-            member = with_values(table, drawn)
-            structure = registry.create("structure", self.structure.name, **member)
-            if self.calibration_surface is not None:
-                preprocessor = self.calibration_surface.preprocessor_at(structure, drawn)
-            else:
-                preprocessor = registry.create(
-                    "preprocessor", self.preprocessor.name, **self.preprocessor.get_params()
-                ).fit(structure)
-            z[rows] = preprocessor.transform(motions[rows])
+            z[rows] = self._member(tuple(row.tolist())).transform(motions[rows])
         return z
+
+    def _member(self, row: tuple[float, ...]) -> PhysicsPreprocessor:
+        """The preprocessor fitted to the structure at the parameter values ``row`` (from
+        the calibration surface where the model has one), kept for the next call with that
+        draw: the :data:`MEMBERS_KEPT` drawn last."""
+        members = self._members
+        if row in members:
+            members[row] = members.pop(row)  # the newest again
+            return members[row]
+        registry = get_registry()
+        drawn = dict(zip(self.parameters.names, row, strict=True))
+        member = with_values(self.structure.get_params(), drawn)
+        structure = registry.create("structure", self.structure.name, **member)
+        if self.calibration_surface is not None:
+            preprocessor = self.calibration_surface.preprocessor_at(structure, drawn)
+        else:
+            preprocessor = registry.create(
+                "preprocessor", self.preprocessor.name, **self.preprocessor.get_params()
+            ).fit(structure)
+        members[row] = preprocessor
+        while len(members) > MEMBERS_KEPT:
+            members.pop(next(iter(members)))
+        return preprocessor
 
     def _parameter_values(self, params: ParameterValues | None, n: int) -> np.ndarray | None:
         """``[n, k]`` each record's parameter values (those ``params`` leaves out at the
