@@ -7,6 +7,7 @@ import tomllib
 import numpy as np
 import pytest
 from scipy import stats
+from tiny_family_run import tiny_config
 
 import cphysfno_core as cp
 from cphysfno_core.config import ExperimentConfig
@@ -28,18 +29,9 @@ story_law = {{ name = "bilinear", alpha = 0.05, yield_displacement = {law} }}
 
 LAW = '{ dist = "lognormal", median = 0.02, beta = 0.2, unit = "m" }'
 
-REST = """
-[ground_motion]
-name = "white-noise"
-duration = 2.0
-
-[operator]
-name = "fno"
-"""
-
 
 def _config(law: str = LAW, extra: str = "") -> ExperimentConfig:
-    return cp.parse_config(tomllib.loads(STRUCTURE.format(law=law) + REST + extra))
+    return tiny_config(STRUCTURE.format(law=law) + extra)
 
 
 def test_a_structure_with_distributions_parses_and_its_nominal_structure_is_the_medians():
@@ -106,7 +98,7 @@ def test_a_distribution_whose_median_is_not_a_valid_value_fails_as_that_value_wo
         'mean = 4e7, std = 4e6, unit = "N/m"', "mean = -4e7, std = 4e6"
     )
     with pytest.raises(cp.ConfigError, match=r"structure\.stiffnesses.*greater than 0"):
-        cp.parse_config(tomllib.loads(text + REST))
+        tiny_config(text)
 
 
 @pytest.mark.parametrize(
@@ -135,7 +127,7 @@ def test_bad_correlations_are_named(correlations, message):
 def test_a_bad_fixed_parameter_beside_distributions_is_still_reported():
     text = STRUCTURE.format(law=LAW).replace("masses = [4.0e4, 3.0e4, 3.0e4]", "masses = [4.0e4]")
     with pytest.raises(cp.ConfigError, match="number of stories differs"):
-        cp.parse_config(tomllib.loads(text + REST))
+        tiny_config(text)
 
 
 def _space(correlations=()) -> UncertainParameters:
