@@ -108,9 +108,9 @@ def _refit(surface, values):
 
 def test_the_members_share_the_nominal_sticks_law(stick_surface):
     nominal = Stick(laws=["bilinear", "bouc-wen"]).fit(_member({}))
-    law = nominal.calibration()["story_law"]["name"]
+    law = nominal.calibration()["stick"]["story_law"]["name"]
     assert stick_surface.preprocessor["laws"] == [law]
-    assert stick_surface.reference["story_law"]["name"] == law
+    assert stick_surface.reference["stick"]["story_law"]["name"] == law
 
 
 @pytest.mark.parametrize(
@@ -138,13 +138,24 @@ def test_a_stick_made_from_its_own_calibration_is_that_stick():
     again = Stick(laws=["bilinear"]).calibrated(_member({}), fitted.calibration())
     motions = _motions()
     np.testing.assert_array_equal(again.transform(motions), fitted.transform(motions))
+    wrong = {**fitted.calibration(), "floors": [0]}
+    with pytest.raises(
+        cp.ConfigError, match="floors for 1 outputs; structure 'shear-building' has 2"
+    ):
+        Stick(laws=["bilinear"]).calibrated(_member({}), wrong)
 
 
 def test_a_calibration_past_the_laws_bounds_is_held_within_them():
     calibration = Stick(laws=["pinching"]).fit(_member({})).calibration()
-    law = calibration["story_law"]
-    pushed = {**calibration, "story_law": {**law, "pinch_y": [1.3, -0.2], "alpha": [1.5, 0.02]}}
-    held = Stick(laws=["pinching"]).calibrated(_member({}), pushed).calibration()["story_law"]
+    law = calibration["stick"]["story_law"]
+    stick = {
+        **calibration["stick"],
+        "story_law": {**law, "pinch_y": [1.3, -0.2], "alpha": [1.5, 0.02]},
+    }
+    pushed = {**calibration, "stick": stick}
+    held = (
+        Stick(laws=["pinching"]).calibrated(_member({}), pushed).calibration()["stick"]["story_law"]
+    )
     assert held["pinch_y"] == [1.0, 0.05]
     assert held["alpha"] == [0.99, 0.02]
     assert held["yield_displacement"] == law["yield_displacement"]
@@ -155,7 +166,7 @@ def test_members_that_choose_otherwise_are_refused(monkeypatch):
 
     def marked(self):
         found = own(self)
-        return {**found, "branch": "stiff" if found["stiffnesses"][0] > 4.5e7 else "soft"}
+        return {**found, "branch": "stiff" if found["stick"]["stiffnesses"][0] > 4.5e7 else "soft"}
 
     monkeypatch.setattr(Stick, "calibration", marked)
     with pytest.raises(cp.ConfigError, match=r"member at stiffnesses.0 = 5.5e\+07 differs"):

@@ -117,10 +117,11 @@ class Stick(PhysicsPreprocessor):
         return self
 
     def calibration(self) -> dict[str, Any]:
-        """The stick: the parameters of its ``shear-building`` (masses, story stiffnesses,
-        heights, the story law's name and its parameters per story, damping)."""
+        """``{"stick": ..., "floors": ...}``: the parameters of the stick's
+        ``shear-building`` (masses, story stiffnesses, heights, the story law's name and its
+        parameters per story, damping) and the stick floor of each output."""
         check_fitted(self, "stick_")
-        return self.stick_.get_params()
+        return {"stick": self.stick_.get_params(), "floors": self.floors_.tolist()}
 
     def refit_params(self) -> dict[str, Any]:
         """These parameters with ``laws`` the law this stick chose: every member of a
@@ -129,21 +130,28 @@ class Stick(PhysicsPreprocessor):
         return {**self.get_params(), "laws": [self.stick_.get_params()["story_law"]["name"]]}
 
     def calibrated(self, structure: Structure, calibration: dict[str, Any]) -> Stick:
-        """The stick ``calibration`` (the parameters of a ``shear-building``, as
-        :meth:`calibration` gives them) for ``structure``, without pushing it; its story
-        law's parameters are held within the bounds the fit allows them (an interpolated
-        calibration may overshoot one that sits at its bound). It has no ``calibration_``
-        (no pushover to show).
+        """The stick of ``calibration`` (as :meth:`calibration` gives it) for
+        ``structure``, a member of the family of the structure it was fitted to, without
+        pushing it or reading its stories; the story law's parameters are held within the
+        bounds the fit allows them (an interpolated calibration may overshoot one that
+        sits at its bound). It has no ``calibration_`` (no pushover to show).
 
         Raises:
-            CapabilityError, ConfigError: as :meth:`fit`, for the structure's stories.
+            CapabilityError: the structure lacks what :meth:`fit` needs.
+            ConfigError: the calibration's floors are not one per output of the structure.
         """
         self.check(structure)
-        floors = _floors(structure.stories(), structure.n_outputs, structure.name)
-        law = calibration["story_law"]
+        floors = np.asarray(calibration["floors"], dtype=int)
+        if floors.shape != (structure.n_outputs,):
+            raise ConfigError(
+                f"stick: the calibration gives floors for {floors.size} outputs; structure "
+                f"'{structure.name}' has {structure.n_outputs}"
+            )
+        stick = dict(calibration["stick"])
+        law = stick["story_law"]
         if law["name"] in LAW_SPACES:
-            calibration = {**calibration, "story_law": LAW_SPACES[law["name"]].held_within_fit(law)}
-        self.stick_ = create("structure", "shear-building", **calibration)
+            stick["story_law"] = LAW_SPACES[law["name"]].held_within_fit(law)
+        self.stick_ = create("structure", "shear-building", **stick)
         self.floors_ = floors
         return self
 
