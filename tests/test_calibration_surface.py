@@ -143,6 +143,8 @@ def test_a_stick_made_from_its_own_calibration_is_that_stick():
         cp.ConfigError, match="floors for 1 outputs; structure 'shear-building' has 2"
     ):
         Stick(laws=["bilinear"]).calibrated(_member({}), wrong)
+    with pytest.raises(cp.ConfigError, match="holds 'stick' and 'floors'.*got floors"):
+        Stick(laws=["bilinear"]).calibrated(_member({}), {"floors": [0, 1]})
 
 
 def test_a_calibration_past_the_laws_bounds_is_held_within_them():

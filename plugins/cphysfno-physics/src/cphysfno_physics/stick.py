@@ -141,6 +141,11 @@ class Stick(PhysicsPreprocessor):
             ConfigError: the calibration's floors are not one per output of the structure.
         """
         self.check(structure)
+        if not {"stick", "floors"} <= set(calibration):
+            raise ConfigError(
+                "stick: a calibration holds 'stick' and 'floors', as Stick.calibration() gives "
+                f"them; got {', '.join(sorted(calibration)) or 'nothing'}"
+            )
         floors = np.asarray(calibration["floors"], dtype=int)
         if floors.shape != (structure.n_outputs,):
             raise ConfigError(
