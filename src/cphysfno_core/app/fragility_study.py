@@ -364,19 +364,7 @@ def run_fragility(
         "modelling_uncertainty": None
         if space is None
         else {"parameters": list(space.names), "units": list(space.units)},
-        "skipped_records": {
-            "test": _skipped(test_failures, np.flatnonzero(standing)),
-            "large": _skipped(large.failures, np.arange(large.intensity.size)),
-            **(
-                {}
-                if large.median_demands is None
-                else {
-                    "large-medians": _skipped(
-                        large.median_failures, np.arange(large.intensity.size)
-                    )
-                }
-            ),
-        },
+        "skipped_records": _skipped_records(test_failures, standing, large),
         "collapse": None
         if collapse is None
         else {"median": collapse.median, "beta": collapse.beta},
@@ -480,6 +468,21 @@ def dispersion_split(drawn: dict[str, Any], medians: dict[str, Any]) -> dict[str
             "the total β is below the record-to-record β: the modelling dispersion is within "
             "the fits' scatter"
         )
+    return found
+
+
+def _skipped_records(
+    test_failures: dict[int, str], standing: np.ndarray, large: LargeAnalysis
+) -> dict[str, dict[str, Any]]:
+    """:func:`_skipped` of the test records (``standing [n]``: those predicted), of the
+    large set, and of its prediction at the medians where it has one."""
+    every = np.arange(large.intensity.size)
+    found = {
+        "test": _skipped(test_failures, np.flatnonzero(standing)),
+        "large": _skipped(large.failures, every),
+    }
+    if large.median_demands is not None:
+        found["large-medians"] = _skipped(large.median_failures, every)
     return found
 
 

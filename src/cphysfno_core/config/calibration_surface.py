@@ -154,6 +154,22 @@ class CalibrationSurface:
         )
 
 
+def member_preprocessor(
+    spec: Mapping[str, Any],
+    structure: Structure,
+    values: Mapping[str, float],
+    surface: CalibrationSurface | None,
+) -> PhysicsPreprocessor:
+    """The preprocessor ``spec`` (its registry name and parameters) of ``structure``, the
+    member of a family at the parameter ``values``: made from ``surface``'s calibration
+    there where there is a surface, else fitted to the member."""
+    if surface is not None:
+        return surface.preprocessor_at(structure, values)
+    params = dict(spec)
+    name = params.pop("name")
+    return get_registry().create("preprocessor", name, **params).fit(structure)
+
+
 def _along(
     d: float, offsets: tuple[float, float], rises: tuple[np.ndarray, np.ndarray]
 ) -> np.ndarray:
@@ -209,6 +225,7 @@ def fit_surface(
             f"calibration surface of '{name}': the outer members {below.tolist()} and "
             f"{above.tolist()} must lie below and above the nominal values {centre.tolist()}"
         )
+    skeleton = _skeleton(reference)
     members = np.empty((2, len(names), len(paths)))
     for i, path in enumerate(names):
         for side, value in enumerate((below[i], above[i])):
@@ -218,7 +235,7 @@ def fit_surface(
                 "structure", structure.name, **with_values(table, {path: value})
             )
             found = registry.create("preprocessor", name, **like).fit(member).calibration()
-            if _skeleton(found) != _skeleton(reference):
+            if _skeleton(found) != skeleton:
                 raise ConfigError(
                     f"calibration surface of '{name}': the member at {path} = {value:.6g} "
                     "differs from the nominal one in more than its numbers; narrow the "

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..api.registry import get_registry
-from ..config.calibration_surface import CalibrationSurface
+from ..config.calibration_surface import CalibrationSurface, member_preprocessor
 from ..config.uncertainty import distinct_draws, with_values
 from ..signals import GroundMotions
 from ..signals.errors import PluginError
@@ -67,14 +67,10 @@ class _Parts:
         self.structure = registry.create("structure", self.structure_entry.name, **spec)
         self.preprocessors = {}
         for pp_spec in preprocessor_specs:
-            pp_spec = dict(pp_spec)
-            name = pp_spec.pop("name")
-            entry = registry.entry("preprocessor", name)
-            if surfaces and name in surfaces:
-                fitted = surfaces[name].preprocessor_at(self.structure, values)
-            else:
-                fitted = entry.cls(**pp_spec).fit(self.structure)
-            self.preprocessors[name] = (entry, fitted)
+            name = pp_spec["name"]
+            surface = (surfaces or {}).get(name)
+            fitted = member_preprocessor(pp_spec, self.structure, values or {}, surface)
+            self.preprocessors[name] = (registry.entry("preprocessor", name), fitted)
 
     def run(self, motions: GroundMotions) -> ChunkResult:
         """Simulate ``motions``; a malformed plugin output raises naming its provider."""

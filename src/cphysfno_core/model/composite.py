@@ -22,7 +22,7 @@ from ..api.interfaces import (
 )
 from ..api.registry import get_registry
 from ..config.allocator import tune_memory
-from ..config.calibration_surface import CalibrationSurface
+from ..config.calibration_surface import CalibrationSurface, member_preprocessor
 from ..config.experiment import ComponentSpec, FormulationConfig, TrainingConfig
 from ..config.precision import Precision, operator_precision
 from ..config.uncertainty import distinct_draws, value_at, with_values
@@ -190,16 +190,11 @@ class CompositeModel:
         if row in members:
             members[row] = members.pop(row)  # the newest again
             return members[row]
-        registry = get_registry()
         drawn = dict(zip(self.parameters.names, row, strict=True))
         member = with_values(self.structure.get_params(), drawn)
-        structure = registry.create("structure", self.structure.name, **member)
-        if self.calibration_surface is not None:
-            preprocessor = self.calibration_surface.preprocessor_at(structure, drawn)
-        else:
-            preprocessor = registry.create(
-                "preprocessor", self.preprocessor.name, **self.preprocessor.get_params()
-            ).fit(structure)
+        structure = get_registry().create("structure", self.structure.name, **member)
+        spec = {"name": self.preprocessor.name, **self.preprocessor.get_params()}
+        preprocessor = member_preprocessor(spec, structure, drawn, self.calibration_surface)
         members[row] = preprocessor
         while len(members) > MEMBERS_KEPT:
             members.pop(next(iter(members)))
