@@ -100,6 +100,27 @@ class AcceleratingToyStructure(StoriedToyStructure):
         return cp.Responses(u, motions.dt, extras={"absolute_acceleration": absolute})
 
 
+class ReactingToyStructure(AcceleratingToyStructure):
+    """The accelerating toy structure that also records a named response: ``base_shear``
+    (kN), minus the floors' inertia forces with a mass of 1 t each, minus the sum of their
+    absolute accelerations."""
+
+    name = "toy-reacting"
+    BASE_SHEAR = plugin.ResponseChannel(
+        "base_shear", "kN", "minus the inertia forces", pelicun_type="VB", pelicun_location=0
+    )
+
+    def response_channels(self):
+        return (self.BASE_SHEAR,)
+
+    def simulate(self, motions, *, dt=None):
+        responses = super().simulate(motions, dt=dt)
+        absolute = responses.extras["absolute_acceleration"]
+        shear = -absolute.sum(axis=2, keepdims=True)
+        extras = {**responses.extras, "base_shear": shear}
+        return cp.Responses(responses.displacement, motions.dt, extras=extras)
+
+
 class FragileStructure(ToyStructure):
     """The toy structure, failing on records whose peak |a_g| exceeds ``limit``: with NaN
     output (``mode = "nan"``), an exception (``mode = "raise"``) or NaN rows named in
@@ -317,6 +338,7 @@ def cphysfno_structures():
         ToyStructure,
         StoriedToyStructure,
         AcceleratingToyStructure,
+        ReactingToyStructure,
         DyingOnceStructure,
         FragileStructure,
         WrongShapeStructure,

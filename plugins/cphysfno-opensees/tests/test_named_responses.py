@@ -77,13 +77,11 @@ def test_a_run_stores_the_responses_with_their_units_and_reports_their_peaks(spr
     data = cp.load_dataset(tmp_path / "dataset.h5")
     assert [c.pelicun_type for c in data.response_channels] == ["VB", None]
     metrics = json.loads((tmp_path / "metrics.json").read_text())
-    assert metrics["edp"]["not_scored"]["PR"] == {
-        "columns": ["base_shear", "spring_2"],
-        "units": ["kN", "N"],
-    }
+    assert metrics["edp"]["edps"]["PR"]["scored_at"] == ["base_shear", "spring_2"]
     assert set(metrics["edp"]["edps"]) == {"PID", "RID", "PFA", "PFV", "PD", "PR"}
     row = next(iter(v for k, v in metrics["models"].items() if not k.startswith("physics")))
-    assert set(row["edp"]) == {"PID", "PFA", "PFV", "PD"}
+    assert set(row["edp"]) == {"PID", "PFA", "PFV", "PD"}  # it does not learn them
+    assert "PR" in metrics["baselines"]["baseline-gp"]["edp"]
     report = (tmp_path / "report.md").read_text()
     assert "Named responses, simulated median peak" in report and "base_shear" in report
     assert "### Peak absolute floor velocity (PFV, m/s)" in report

@@ -107,8 +107,7 @@ def parse_limit_states(text: str) -> list[LimitState]:
     value[,value...]``, the demand any EDP a surrogate predicts.
 
     Raises:
-        ConfigError: an unknown demand, a named response's peak (which no surrogate
-            predicts) or a threshold that is not a number > 0.
+        ConfigError: an unknown demand or a threshold that is not a number > 0.
     """
     states = []
     for part in filter(None, (p.strip() for p in text.split(";"))):
@@ -120,12 +119,7 @@ def parse_limit_states(text: str) -> list[LimitState]:
                 f"limit states: '{part}' is not demand[:column]=value[,value...] "
                 "(e.g. pid=0.005,0.01,0.02 or pd:isolator=0.3)"
             )
-        what = edp.definition(demand)
-        if what.axis == "response":
-            raise ConfigError(
-                f"limit states: {what.name} ({what.title}) is simulated only; a surrogate "
-                "does not predict it, so no fragility can be fitted on it"
-            )
+        edp.definition(demand)
         for value in values.split(","):
             try:
                 threshold = float(value)
@@ -143,7 +137,8 @@ def default_model(metrics: MetricsDocument, demands: tuple[str, ...] = ("PID", "
     """The model a fragility or a demand sample uses unless told: the trained model with
     the lowest validation EDP error, the mean over stories and floors of the median
     ``|ln(predicted / simulated)|`` of the ``demands`` (``validation_edp`` in
-    ``metrics.json``), a refined one where they tie. A run without EDP errors
+    ``metrics.json``; a model that does not predict a scored demand, such as a named
+    response's peak, comes last), a refined one where they tie. A run without EDP errors
     (a structure without stories) chooses by the mean validation relative L2 instead. The
     refiner is not preferred for itself: fitted on the training split, it can make a model
     worse on new records (the SAC frame's: validation 0.21 refined against 0.18 without,
@@ -163,7 +158,9 @@ def default_model(metrics: MetricsDocument, demands: tuple[str, ...] = ("PID", "
         if row.validation_edp is not None:
             errors = row.validation_edp
             medians = [v for key in demands if key in errors for v in errors[key]["median"]]
-            value = float(np.nanmean(medians)) if np.isfinite(medians).any() else np.inf
+            lacking = any(k not in errors and edp.EDP_TABLE[k].scored for k in demands)
+            found = np.isfinite(medians).any() and not lacking
+            value = float(np.nanmean(medians)) if found else np.inf
         else:
             value = float(np.mean(row.validation_rel_l2 or row.rel_l2))
         return value, not ModelLabel.parse(label).refined
@@ -309,6 +306,11 @@ def run_fragility(
     )
     if any(state.needs_ratios for state in limit_states):
         edp.require_heights(edp.stories_of(structure), "a fragility on story drift ratios")
+    if "PR" in demands and not model.response_names:
+        raise ConfigError(
+            f"limit states on named responses (PR) need a model that learns them: '{label}' "
+            "does not (train it with formulation.responses = true)"
+        )
     t1 = float(structure.periods(1)[0])
     im = intensity_measure(measure, t1)
     data = load_dataset(run_file(run, DATASET))

@@ -42,6 +42,8 @@ class ModelRow(ErrorRow):
 
     Attributes:
         acceleration: the errors of the absolute accelerations of a model that learns them.
+        responses: name -> the errors of each named response of a model that learns them
+            (``rmse`` in the response's unit).
         edp: EDP errors on the test records (a structure with stories).
         validation_edp: EDP errors on the validation records.
         pfa_from: ``"predicted acceleration"`` or ``"displacement"``, where PFA came from.
@@ -59,6 +61,7 @@ class ModelRow(ErrorRow):
     """
 
     acceleration: ErrorRow | None = None
+    responses: dict[str, ErrorRow] | None = None
     edp: EDPErrors | None = None
     validation_edp: EDPErrors | None = None
     pfa_from: str | None = None

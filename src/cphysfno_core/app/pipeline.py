@@ -36,7 +36,6 @@ from ..reporting.evaluation import (
 )
 from ..signals import Responses, Stories
 from ..signals.errors import ConfigError, DatasetError
-from ..signals.histories import ACCELERATION_EXTRA
 from ..signals.progress import show_progress
 from .metrics_document import MetricsDocument
 
@@ -130,6 +129,10 @@ def train(
     train_a = val_a = None
     if config.formulation.accelerations:
         train_a, val_a = data.accelerations("train")[kept], data.accelerations("val")
+    train_r = val_r = None
+    if config.formulation.responses:
+        train_r = {name: v[kept] for name, v in data.named_responses("train").items()}
+        val_r = data.named_responses("val")
     train_p = {name: values[kept] for name, values in data.parameter_draws("train").items()}
     val_p = data.parameter_draws("val")
     saved: dict[str, Path] = {}
@@ -168,6 +171,8 @@ def train(
                 validation_z=z_val,
                 acceleration=train_a,
                 validation_acceleration=val_a,
+                responses=train_r,
+                validation_responses=val_r,
                 params=train_p,
                 validation_params=val_p,
                 param_units=data.parameter_units,
@@ -226,6 +231,7 @@ def evaluate(
     stories = structure.stories() if "stories" in structure.capabilities else None
     scorer = EDPScorer(stories, data, train_rows, _record_heights(structure, stories, data))
     accelerations = functools.cache(data.accelerations)  # read once, for every model
+    named_responses = functools.cache(data.named_responses)
     for pp in config.preprocessor:
         label = str(ModelLabel.physics(pp.name))
         z_test, z_val = data.physics(pp.name, "test"), data.physics(pp.name, "val")
@@ -252,6 +258,16 @@ def evaluate(
                 "validation_rel_l2": metrics.relative_l2(
                     validation.acceleration, accelerations("val")
                 ).tolist(),
+            }
+        if stages.responses:
+            results[label]["responses"] = {
+                name: {
+                    **metric_row(values, named_responses("test")[name]),
+                    "validation_rel_l2": metrics.relative_l2(
+                        validation.responses[name], named_responses("val")[name]
+                    ).tolist(),
+                }
+                for name, values in stages.responses.items()
             }
         results[label].update(
             scorer.errors(label, _predicted(stages, data.dt), _predicted(validation, data.dt))
@@ -332,10 +348,10 @@ def _record_heights(
 
 
 def _predicted(stages: Prediction, dt: float) -> Responses:
-    """A prediction's displacement with its predicted absolute accelerations, where the
-    model learns them, so that its floor accelerations come from those."""
-    extras = {} if stages.acceleration is None else {ACCELERATION_EXTRA: stages.acceleration}
-    return Responses(stages.mean, dt, extras=extras)
+    """A prediction's displacement with its predicted absolute accelerations and named
+    responses, where the model learns them, so that its floor accelerations and the
+    responses' peaks come from those."""
+    return Responses(stages.mean, dt, extras=stages.extras())
 
 
 def run(config: ExperimentConfig, out: str | Path, resume: bool = False) -> Evaluation:

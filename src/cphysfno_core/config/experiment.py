@@ -184,8 +184,8 @@ class TrainingConfig(_Strict):
 
 class FormulationConfig(_Strict):
     """How a C-Phys model's operator works on the physics response z (the baseline, which
-    has no z, keeps only ``accelerations``), and which responses it learns. The paper's
-    formulation is the default: ``[z, t] -> u``."""
+    has no z, keeps only the response kinds it learns and its parameter inputs), and which
+    responses it learns. The paper's formulation is the default: ``[z, t] -> u``."""
 
     residual: bool | Literal["choose"] = Field(
         False,
@@ -204,6 +204,13 @@ class FormulationConfig(_Strict):
         "channel), normalised and weighted in the loss on their own; floor accelerations "
         "(PFA) then come from the predicted accelerations, not from the displacements",
     )
+    responses: bool = Field(
+        False,
+        description="the operator (of every model, the baseline's too) also learns the "
+        "structure's named responses ([structure] responses: a base shear, an isolator's "
+        "force), each normalised and weighted in the loss on its own; their peaks (EDP PR) "
+        "and their pelicun demands then come from the surrogate",
+    )
 
     parameter_input: bool | Literal["both"] = Field(
         False,
@@ -217,7 +224,9 @@ class FormulationConfig(_Strict):
         """The part of this formulation a model without physics response keeps: the
         response kinds it learns and its parameter inputs."""
         return FormulationConfig(
-            accelerations=self.accelerations, parameter_input=self.parameter_input
+            accelerations=self.accelerations,
+            responses=self.responses,
+            parameter_input=self.parameter_input,
         )
 
     def forms(self) -> list[FormulationConfig]:

@@ -175,6 +175,24 @@ class Dataset:
             )
         return np.asarray(self.extras[ACCELERATION_EXTRA][self.rows(split)], dtype=np.float64)
 
+    def named_responses(self, split: str) -> dict[str, np.ndarray]:
+        """Name -> ``[n, T, 1]`` each named response (``response_channels``, in its
+        channel's unit) of the split's records.
+
+        Raises:
+            DatasetError: the structure recorded no named response.
+        """
+        if not self.response_channels:
+            raise DatasetError(
+                "the dataset has no named responses: a model can learn them only from a "
+                "structure that records them ([structure] responses of opensees-model)"
+            )
+        rows = self.rows(split)
+        return {
+            c.name: np.asarray(self.extras[c.name][rows], dtype=np.float64)
+            for c in self.response_channels
+        }
+
     def parameter_draws(self, split: str) -> dict[str, np.ndarray]:
         """Parameter path -> ``[n]`` the split's records' draws of each random structural
         parameter, in its unit (empty for a fixed structure); the records of

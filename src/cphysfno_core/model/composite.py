@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import copy
 import itertools
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +32,7 @@ from ..signals.errors import (
     InputError,
     NotFittedError,
 )
+from ..signals.histories import ACCELERATION_EXTRA
 from ..signals.intensity import peak_ground_acceleration
 from .extrapolation import warn_extrapolation
 from .labels import ModelLabel
@@ -66,13 +67,23 @@ class Prediction:
     baseline without physics); ``operator_output`` is the operator's prediction û of the
     displacements, z included for a residual formulation. ``acceleration`` is the
     operator's prediction of the outputs' absolute accelerations ``[n, T, dof]`` in m/s^2
-    for a model that learns them (``formulation.accelerations``), else None."""
+    for a model that learns them (``formulation.accelerations``), else None;
+    ``responses`` its prediction of each named response ``[n, T, 1]`` (in the channel's
+    unit) for a model that learns them (``formulation.responses``), else empty."""
 
     z: np.ndarray | None
     operator_output: np.ndarray
     mean: np.ndarray
     std: np.ndarray
     acceleration: np.ndarray | None = None
+    responses: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def extras(self) -> dict[str, np.ndarray]:
+        """The predicted channels beside the displacement, by their names as
+        :class:`~cphysfno_core.signals.Responses` extras: the absolute accelerations
+        (``absolute_acceleration``) and the named responses, those the model learns."""
+        found = {} if self.acceleration is None else {ACCELERATION_EXTRA: self.acceleration}
+        return {**found, **self.responses}
 
 
 class CompositeModel:
@@ -128,10 +139,10 @@ class CompositeModel:
                 "residual and ground_motion_input work on a physics response: the baseline "
                 "operator has none (it always sees a_g)"
             )
-        for field, value in (("residual", "choose"), ("parameter_input", "both")):
-            if getattr(self.formulation, field) == value:
+        for name, value in (("residual", "choose"), ("parameter_input", "both")):
+            if getattr(self.formulation, name) == value:
                 raise ConfigError(
-                    f"formulation.{field} = '{value}' is for a run, which trains both forms: "
+                    f"formulation.{name} = '{value}' is for a run, which trains both forms: "
                     "a model takes true or false"
                 )
         if isinstance(operator, NeuralOperator):
@@ -254,14 +265,18 @@ class CompositeModel:
         return np.concatenate(channels_in, axis=2)
 
     def _target(
-        self, u: np.ndarray, z: np.ndarray | None, acceleration: np.ndarray | None
+        self,
+        u: np.ndarray,
+        z: np.ndarray | None,
+        acceleration: np.ndarray | None,
+        responses: np.ndarray | None = None,
     ) -> np.ndarray:
         """What the operator learns: ``u``, or ``u - z`` with ``formulation.residual``,
-        followed by the absolute accelerations with ``formulation.accelerations``."""
+        followed by the absolute accelerations with ``formulation.accelerations`` and the
+        named responses ``[n, T, k]`` with ``formulation.responses``."""
         displacement = u - z if self.formulation.residual else u
-        if acceleration is None:
-            return displacement
-        return np.concatenate([displacement, acceleration], axis=2)
+        parts = [displacement, acceleration, responses]
+        return np.concatenate([part for part in parts if part is not None], axis=2)
 
     def _responses(
         self,
@@ -292,15 +307,63 @@ class CompositeModel:
             )
         return u, acceleration
 
+    def _named_responses(
+        self, motions: GroundMotions, responses: Mapping[str, np.ndarray] | None, what: str
+    ) -> np.ndarray | None:
+        """``[n, T, k]`` the named responses of a model that learns them, in the order of
+        :attr:`response_names` (refused when missing, of other names than the training
+        records', or given to a model that does not learn them), else None."""
+        if not self.formulation.responses:
+            if responses:
+                raise ConfigError(
+                    f"{what} named responses given to a model that does not learn them: set "
+                    "formulation.responses = true"
+                )
+            return None
+        if not responses:
+            raise ConfigError(
+                f"formulation.responses: give the {what} records' named responses (name -> "
+                "[n, T, 1] in its unit, the structure's [structure] responses channels)"
+            )
+        names = self.response_names or tuple(responses)
+        if set(responses) != set(names):
+            raise ConfigError(
+                f"{what} named responses {sorted(responses)} are not those the model learns: "
+                f"{', '.join(names)}"
+            )
+        shape = (*motions.acceleration.shape, 1)
+        found = []
+        for name in names:
+            values = np.asarray(responses[name], dtype=np.float64)
+            if values.shape != shape:
+                raise InputError(
+                    f"{what} named response '{name}' must be {list(shape)} ([n_records, "
+                    f"n_steps, 1] matching the motions), got {list(values.shape)}"
+                )
+            if not np.isfinite(values).all():
+                raise InputError(f"{what} named response '{name}' holds NaN or Inf")
+            found.append(values)
+        self.response_names_ = names
+        return np.concatenate(found, axis=2)
+
+    @property
+    def response_names(self) -> tuple[str, ...]:
+        """The named responses the model learns (``formulation.responses``), in the order of
+        its output channels; empty for one that learns none or is not trained."""
+        return getattr(self, "response_names_", ())
+
     def _groups(self, n_outputs: int) -> tuple[int, ...] | None:
-        """Channels of each response kind the operator outputs, for the loss."""
-        return (n_outputs, n_outputs) if self.formulation.accelerations else None
+        """Channels of each response kind the operator outputs, for the loss: the
+        displacements, the accelerations, each named response on its own."""
+        kinds = (n_outputs,) * (2 if self.formulation.accelerations else 1)
+        kinds += (1,) * len(self.response_names)
+        return kinds if len(kinds) > 1 else None
 
     @property
     def _displacements(self) -> int:
         """How many of the operator's output channels are displacements (the first)."""
         kinds = 2 if self.formulation.accelerations else 1
-        return self.operator_.out_channels // kinds
+        return (self.operator_.out_channels - len(self.response_names)) // kinds
 
     def _build_operator(self, in_channels: int, out_channels: int) -> NeuralOperator:
         spec = self.operator_spec
@@ -324,6 +387,8 @@ class CompositeModel:
         validation_z: np.ndarray | None = None,
         acceleration: np.ndarray | None = None,
         validation_acceleration: np.ndarray | None = None,
+        responses: Mapping[str, np.ndarray] | None = None,
+        validation_responses: Mapping[str, np.ndarray] | None = None,
         params: ParameterValues | None = None,
         validation_params: ParameterValues | None = None,
         param_units: dict[str, str] | None = None,
@@ -345,6 +410,9 @@ class CompositeModel:
             acceleration, validation_acceleration: the absolute accelerations ``[n, T,
                 dof]`` (m/s^2) of the training and validation records, for a model that
                 learns them (``formulation.accelerations``).
+            responses, validation_responses: name -> ``[n, T, 1]`` each named response of
+                the training and validation records (in its unit; the same names in both),
+                for a model that learns them (``formulation.responses``).
             params, validation_params: for a model of a family of structures, each
                 record's values of the structure's random parameters (path -> ``[n]``
                 values, in the parameters' units; the same paths in both); they rebuild
@@ -360,6 +428,9 @@ class CompositeModel:
         val_u, validation_acceleration = self._responses(
             val_motions, val_u, validation_acceleration, "validation"
         )
+        self.response_names_ = ()
+        named = self._named_responses(motions, responses, "training")
+        validation_named = self._named_responses(val_motions, validation_responses, "validation")
         overrides = {**training, **({"epochs": epochs} if epochs is not None else {})}
         if overrides:
             self.training = self.training.model_copy(update=overrides)
@@ -375,7 +446,7 @@ class CompositeModel:
                 validation_z = self._physics(val_motions, val_values)
         x_train = self._inputs(motions, z, self._channels(values))
         x_val = self._inputs(val_motions, validation_z, self._channels(val_values))
-        target = self._target(u, z, acceleration)
+        target = self._target(u, z, acceleration, named)
         fit_normalizer = Normalizer.fit if self.training.normalize else Normalizer.identity
         self.input_normalizer_ = fit_normalizer(x_train)
         self.output_normalizer_ = fit_normalizer(target)
@@ -392,7 +463,7 @@ class CompositeModel:
             self.input_normalizer_.encode(x_train),
             target,
             self.input_normalizer_.encode(x_val),
-            self._target(val_u, validation_z, validation_acceleration),
+            self._target(val_u, validation_z, validation_acceleration, validation_named),
             self.output_normalizer_,
             self.training,
             progress,
@@ -401,11 +472,8 @@ class CompositeModel:
             groups=self._groups(u.shape[2]),
         )
         val_hat = self._run_operator(x_val, validation_z)
-        val_truth = (
-            val_u
-            if validation_acceleration is None
-            else np.concatenate([val_u, validation_acceleration], axis=2)
-        )
+        truths = (val_u, validation_acceleration, validation_named)
+        val_truth = np.concatenate([part for part in truths if part is not None], axis=2)
         self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_truth) ** 2, axis=(0, 1)))
         if self.refiner is not None:
             calibration = (
@@ -638,13 +706,20 @@ class CompositeModel:
         )
         n = self._displacements
         operator_output = np.ascontiguousarray(output[:, :, :n])
-        acceleration = np.ascontiguousarray(output[:, :, n:]) if output.shape[2] > n else None
+        acceleration = None
+        if self.formulation.accelerations:
+            acceleration = np.ascontiguousarray(output[:, :, n : 2 * n])
+        first = output.shape[2] - len(self.response_names)
+        responses = {
+            name: np.ascontiguousarray(output[:, :, first + j : first + j + 1])
+            for j, name in enumerate(self.response_names)
+        }
         if self.refiner is not None:
             mean, std = self.refiner.predict(z, operator_output)
         else:
             mean = operator_output
             std = np.broadcast_to(self.validation_rmse_[:n], mean.shape).copy()
-        return Prediction(z, operator_output, mean, std, acceleration)
+        return Prediction(z, operator_output, mean, std, acceleration, responses)
 
     def predict(
         self,

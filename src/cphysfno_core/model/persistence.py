@@ -62,6 +62,11 @@ class SavedModel(BaseModel):
         description="a model of a family of structures: the names and units of the "
         "structural parameters it takes (their scale is in arrays.npz)",
     )
+    responses: list[str] = Field(
+        default_factory=list,
+        description="the named responses the operator learns (formulation.responses), in "
+        "the order of its output channels",
+    )
     calibration_surface: dict[str, Any] | None = Field(
         None,
         description="a model of a family whose preprocessor is fitted from a calibration "
@@ -135,6 +140,7 @@ def save_model(model: Any, directory: str | Path) -> Path:
         "grid": None if model.grid is None else dataclasses.asdict(model.grid),
         "training_pga": getattr(model, "training_pga_", None),
         "parameters": None if model.parameters is None else model.parameters.description(),
+        "responses": list(model.response_names),
         "calibration_surface": None
         if model.calibration_surface is None
         else model.calibration_surface.to_dict(),
@@ -232,6 +238,7 @@ def load_model(directory: str | Path, factory: Callable[..., Any]) -> Any:
     if saved.grid is not None:
         model.grid_ = TimeGrid(saved.grid.dt, saved.grid.n_steps)
     model.training_pga_ = saved.training_pga
+    model.response_names_ = tuple(saved.responses)
     model.parameters_ = None
     if saved.parameters is not None:
         scale = {k[len(PARAMETERS) :]: v for k, v in arrays.items() if k.startswith(PARAMETERS)}

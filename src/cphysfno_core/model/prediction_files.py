@@ -37,6 +37,12 @@ PREDICTION_ARRAYS = {
         "m/s^2",
         "predicted absolute acceleration [record, sample, output] (a model that learns it)",
     ],
+    "responses": [
+        "response_units",
+        "predicted named responses [record, sample, response] (a model that learns them)",
+    ],
+    "response_names": ["", "the named responses, in the order of responses' last axis"],
+    "response_units": ["", "the unit of each named response"],
     "params": ["", "structural parameters [record, parameter] given, in their units"],
     "param_names": ["", "the parameters' dotted paths, in the order of params' last axis"],
     "dt": ["s", "time step of the records"],
@@ -292,6 +298,11 @@ def predict_file(
         arrays["z"] = stages.z
     if stages.acceleration is not None:
         arrays["acceleration"] = stages.acceleration
+    if stages.responses:
+        units = {c.name: c.unit for c in model.structure.response_channels()}
+        arrays["responses"] = np.concatenate(list(stages.responses.values()), axis=2)
+        arrays["response_names"] = np.array(list(stages.responses))
+        arrays["response_units"] = np.array([units.get(n, "") for n in stages.responses])
     if given:
         arrays["params"] = np.column_stack(list(per_record(given, motions.n_records).values()))
         arrays["param_names"] = np.array(list(given))

@@ -7,7 +7,6 @@ import numpy as np
 from ..config.uncertainty import per_record
 from ..signals import GroundMotions, Responses
 from ..signals.errors import CphysfnoError
-from ..signals.histories import ACCELERATION_EXTRA
 from .composite import CompositeModel
 from .parameters import ParameterValues
 
@@ -16,8 +15,9 @@ def predict_skipping_failures(
     model: CompositeModel, motions: GroundMotions, params: ParameterValues | None = None
 ) -> tuple[Responses, dict[int, str]]:
     """The predicted mean displacement ``[n, T, n_outputs]`` (m) of every record, with the
-    predicted absolute accelerations (extra ``absolute_acceleration``, m/s^2) of a model
-    that learns them, and the records it could not predict; ``params``: each record's
+    predicted absolute accelerations (extra ``absolute_acceleration``, m/s^2) and named
+    responses (extras by their names) of a model that learns them, and the records it
+    could not predict; ``params``: each record's
     structural parameters, for a model of a family (path -> ``[n]`` values).
 
     The records are predicted together; if that fails (the physics input of one record
@@ -47,10 +47,8 @@ def _channels(
     model: CompositeModel, motions: GroundMotions, params: dict[str, np.ndarray]
 ) -> dict[str, np.ndarray]:
     stages = model.predict_stages(motions, params=params)
-    found = {"displacement": np.array(stages.mean, dtype=np.float64)}
-    if stages.acceleration is not None:
-        found[ACCELERATION_EXTRA] = np.array(stages.acceleration, dtype=np.float64)
-    return found
+    found = {"displacement": stages.mean, **stages.extras()}
+    return {name: np.array(values, dtype=np.float64) for name, values in found.items()}
 
 
 def _one_by_one(

@@ -347,8 +347,11 @@ def beaten_surrogates(
     if not surrogates or not baseline_rows:
         return found
     for key, locations in names.items():
+        scoring = {k: v[key] for k, v in surrogates.items() if key in v}
+        if not scoring:  # no surrogate predicts it (a named response's peak)
+            continue
         for j, location in enumerate(locations):
-            surrogate, ours = _best({k: v[key]["median"][j] for k, v in surrogates.items()})
+            surrogate, ours = _best({k: v["median"][j] for k, v in scoring.items()})
             baseline, theirs = _best(
                 {k: v["edp"][key]["median"][j] for k, v in baseline_rows.items()}
             )

@@ -222,9 +222,10 @@ EDP_TABLE: dict[str, EDPDefinition] = {
             "peak of each named response the structure records (base shear, element force)",
             "response",
             "the response's own unit",
-            "max over t of |r| of the simulated response; a surrogate does not predict it",
+            "max over t of |r|; a surrogate predicts it only where it learns the named "
+            "responses (formulation.responses)",
             None,
-            False,
+            True,
             _pr,
         ),
     )

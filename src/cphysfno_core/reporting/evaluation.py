@@ -10,7 +10,7 @@ import numpy as np
 
 from ..api.interfaces import Refiner
 from ..data.datasets import Dataset
-from ..signals import GroundMotions, Responses, Stories
+from ..signals import GroundMotions, ResponseChannel, Responses, Stories
 from . import baselines, edp, metrics
 
 
@@ -172,7 +172,7 @@ class EDPScorer:
         "pfa_from": ...}`` of predictions of the test (and validation) records, or ``{}``:
         ``[n, T, n_outputs]`` displacements, or :class:`Responses` that may carry predicted
         absolute accelerations (``pfa_from`` then says ``"predicted acceleration"``, else
-        ``"displacement"``)."""
+        ``"displacement"``) and predicted named responses (scored as PR)."""
         if self.truth is None:
             return {}
         names = self.output_names
@@ -181,6 +181,7 @@ class EDPScorer:
             self.stories,
             self.motions["test"],
             output_names=names,
+            channels=self._predicted_channels(displacement),
             heights=self.heights("test"),
         )
         self.predicted[label] = predicted
@@ -197,10 +198,16 @@ class EDPScorer:
                 self.stories,
                 self.motions["val"],
                 output_names=names,
+                channels=self._predicted_channels(validation),
                 heights=self.heights("val"),
             )
             found["validation_edp"] = edp.log_errors(on_validation, self.validation_truth)
         return found
+
+    def _predicted_channels(self, predicted: Any) -> tuple[ResponseChannel, ...]:
+        """The dataset's named responses that a prediction carries (all of them, or none)."""
+        extras = predicted.extras if isinstance(predicted, Responses) else {}
+        return tuple(c for c in self.data.response_channels if c.name in extras)
 
     def baselines(self, first_period: float) -> dict[str, dict[str, Any]]:
         """The rows of :data:`~cphysfno_core.reporting.baselines.BASELINES`, fitted on the
