@@ -462,7 +462,8 @@ def build_parser() -> argparse.ArgumentParser:
         default="pid=0.005,0.01,0.02",
         help="thresholds, e.g. 'pid=0.005,0.01,0.02;pfa=5;pd:isolator=0.3', demand[:column]"
         "=values with demand an EDP (pid, rid: story drift ratios; pfa, m/s^2; pfv, m/s; pd, "
-        "m) and the largest over its columns unless one is named; default %(default)s",
+        "m; pr: a named response's peak in its unit, for a model that learns them) and the "
+        "largest over its columns unless one is named; default %(default)s",
     )
     fragility.add_argument(
         "--records", type=int, default=10_000, help="new motions drawn from the run's source"
