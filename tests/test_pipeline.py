@@ -298,6 +298,30 @@ def test_choose_trains_both_forms_and_reports_each_against_its_physics(
     assert f"- {paper}: `{document['chosen_forms'][paper]}`" in report
 
 
+def test_a_run_fits_each_preprocessor_once_for_all_its_models(toy_registry, tmp_path, monkeypatch):
+    import toy_components
+
+    text = CONFIG.format(executor="serial") + '\n[formulation]\nresidual = "choose"\n'
+    path = tmp_path / "choose.toml"
+    path.write_text(text)
+    config = cp.load_config(path)
+    pipeline.generate(config, tmp_path)
+    fitted = []
+    own = toy_components.ToyPreprocessor.fit
+
+    def counted(self, structure):
+        fitted.append(self)
+        return own(self, structure)
+
+    monkeypatch.setattr(toy_components.ToyPreprocessor, "fit", counted)
+    saved = pipeline.train(config, tmp_path)
+    assert len(fitted) == 1  # two forms, each refined: four C-Phys models, one fit
+    paper = cp.CompositeModel.load(saved["c-phystoy-operator-toy-linear"])
+    residual = cp.CompositeModel.load(saved["c-phystoy-operator-toy-linear-residual"])
+    motions = cp.load_dataset(tmp_path / "dataset.h5").motions("test")
+    np.testing.assert_array_equal(paper.physics(motions), residual.physics(motions))
+
+
 def test_a_model_cannot_be_built_to_choose(toy_registry):
     structure = cp.create("structure", "toy-structure")
     with pytest.raises(cp.ConfigError, match="'choose' is for a run"):

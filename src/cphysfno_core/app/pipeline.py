@@ -136,6 +136,7 @@ def train(
     train_p = {name: values[kept] for name, values in data.parameter_draws("train").items()}
     val_p = data.parameter_draws("val")
     saved: dict[str, Path] = {}
+    fitted: dict[str, Any] = {}  # each preprocessor fitted once, shared by the models on it
     for operator, pp, form in _variants(config):
         surface = None if pp is None else data.calibration_surfaces.get(pp.name)
         model = CompositeModel(
@@ -163,6 +164,11 @@ def train(
                 f"training {model.label} ({config.training.epochs} epochs, "
                 f"{train_gm.n_records} records{arithmetic})"
             )
+            if pp is not None:
+                key = json.dumps([pp.name, pp.params], sort_keys=True, default=str)
+                if key not in fitted:
+                    fitted[key] = model.preprocessor.fit(structure)
+                model.preprocessor = fitted[key]
             model.fit(
                 train_gm,
                 train_u,
@@ -178,6 +184,7 @@ def train(
                 param_units=data.parameter_units,
                 checkpoint=checkpoint,
                 resume=resume,
+                refit_physics=False,
             )
             _replace_dir(model, directory)
             checkpoint.unlink()

@@ -395,6 +395,7 @@ class CompositeModel:
         progress: Callable[[EpochReport], None] | None = print_progress,
         checkpoint: str | Path | None = None,
         resume: bool = False,
+        refit_physics: bool = True,
         **training: Any,
     ) -> CompositeModel:
         """Train the operator (and the refiner, if any) on ``motions -> u``.
@@ -422,6 +423,9 @@ class CompositeModel:
             progress: per-epoch callback (None for silence).
             checkpoint: file to write after every epoch (see :func:`train_operator`).
             resume: continue from ``checkpoint`` where an interrupted fit stopped.
+            refit_physics: False keeps the preprocessor as it was given, fitted to this
+                model's structure already (a run fits each preprocessor once for all the
+                models it trains on it: a stick's pushovers, say).
         """
         val_motions, val_u = validation
         u, acceleration = self._responses(motions, u, acceleration, "training")
@@ -440,7 +444,8 @@ class CompositeModel:
             params, validation_params, param_units, motions.n_records, val_motions.n_records
         )
         if self.preprocessor is not None:
-            self.preprocessor.fit(self.structure)
+            if refit_physics:
+                self.preprocessor.fit(self.structure)
             z = self._physics(motions, values) if z is None else z
             if validation_z is None:
                 validation_z = self._physics(val_motions, val_values)
