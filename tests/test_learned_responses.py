@@ -6,6 +6,7 @@ fragility."""
 import csv
 import json
 import shutil
+import warnings
 
 import numpy as np
 import pytest
@@ -167,3 +168,16 @@ def test_each_named_response_is_its_own_group_of_the_loss(tmp_path):
     for name, values in again.predict_stages(motions).responses.items():
         np.testing.assert_allclose(values, stages.responses[name], rtol=1e-6)
     assert edp.EDP_TABLE["PR"].scored
+
+
+def test_a_surrogate_whose_pfa_is_differentiated_is_flagged(reacting_run):
+    from cphysfno_core.app.fragility_study import surrogate_pfa_source
+
+    folder, _ = reacting_run
+    learning = cp.CompositeModel.load(folder / "models" / C_PHYS)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert surrogate_pfa_source(learning, C_PHYS) == "predicted acceleration"
+    plain = cp.compose(operator=("toy-operator", {"width": 4}))
+    with pytest.warns(cp.CphysfnoWarning, match="second difference of its predicted displ"):
+        assert surrogate_pfa_source(plain, "plain") == "displacement"

@@ -30,7 +30,7 @@ from ..reporting import edp
 from ..reporting.demands import PelicunDemands, write_pelicun_demands
 from ..signals import GroundMotions
 from ..signals.intensity import peak_ground_acceleration, peak_ground_velocity
-from .fragility_study import load_trained_run, modelling_uncertainty
+from .fragility_study import load_trained_run, modelling_uncertainty, surrogate_pfa_source
 
 
 def write_demand_sample(
@@ -54,6 +54,7 @@ def write_demand_sample(
     """
     trained = load_trained_run(Path(run), model_label)
     model, structure = trained.model, trained.structure
+    surrogate_pfa_source(model, trained.label)  # warns where PFA is differentiated
     edp.require_heights(edp.stories_of(structure), "a pelicun demand sample")
     params = None
     if motions_file is not None:

@@ -217,6 +217,24 @@ def load_trained_run(
     return TrainedRun(config, label, CompositeModel.load(folder), structure)
 
 
+def surrogate_pfa_source(model: CompositeModel, label: str) -> str:
+    """How the surrogate's floor accelerations are obtained: ``"predicted acceleration"``
+    for a model that learns them, else ``"displacement"`` (the second difference of its
+    predicted displacement), with a :class:`~cphysfno_core.CphysfnoWarning` saying why
+    that is unreliable."""
+    if model.formulation.accelerations:
+        return "predicted acceleration"
+    warnings.warn(
+        f"model '{label}' does not learn floor accelerations: its PFA comes from the second "
+        "difference of its predicted displacement, where a wiggle of e m makes up to "
+        "4 e / dt^2 m/s^2 (an order of magnitude off on a fibre frame); train it with "
+        "formulation.accelerations = true on a structure that records them",
+        CphysfnoWarning,
+        stacklevel=3,
+    )
+    return "displacement"
+
+
 def demand_values(demands: edp.EDPs, state: LimitState) -> np.ndarray:
     """``[n]`` the demand of each record that ``state`` is set on: its column's value, or
     the largest over the columns (the ground's own left out).
@@ -352,6 +370,7 @@ def run_fragility(
     document: dict[str, Any] = {
         "run": str(run),
         "model": label,
+        "surrogate_pfa_from": surrogate_pfa_source(model, label) if "PFA" in demands else None,
         "intensity_measure": {**im.to_dict(), "t1_s": t1},
         "test_records": int(rows.size),
         "collapsed_test_records": int(data.collapsed[rows].sum()),
