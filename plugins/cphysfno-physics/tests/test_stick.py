@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from cphysfno_bouc_wen.shear_building import ShearBuilding
 from cphysfno_physics import Stick, StickCalibration
+from cphysfno_physics.stick_calibration import LAW_SPACES
 
 from cphysfno_core import CapabilityError, ConfigError, CphysfnoWarning, GroundMotions, create
 from cphysfno_core.plugin import Stories
@@ -19,6 +20,9 @@ FAST = {"cycle_amplitudes": (0.0025, 0.005, 0.01), "points_per_cycle": 40}
 
 BILINEAR = {"name": "bilinear", "alpha": 0.05, "yield_displacement": (0.008, 0.01, 0.012)}
 BOUC_WEN = {"name": "bouc-wen", "alpha": 0.1, "exponent": 3.0, "yield_displacement": 0.01}
+SOFTENING = {"name": "bilinear", "alpha": -0.05, "yield_displacement": (0.008, 0.01, 0.012)}
+"""A story law that falls past yield (P-Delta): zero shear at 21 yield drifts, beyond the
+monotonic pushover's 3 % of roof drift (7.5 to 15 yield drifts)."""
 
 
 def building(law: dict, **extra) -> ShearBuilding:
@@ -173,7 +177,28 @@ def test_a_stick_that_cannot_follow_the_structure_says_so(bilinear_building, tmp
     stick.write_artifacts(tmp_path)
     summary = (tmp_path / "summary.md").read_text()
     assert worst > 0.10, worst
-    assert f"misses the cyclic story shear by {worst:.0%}" in summary
+    assert f"misses the pushovers' story shear by {worst:.0%}" in summary
+
+
+def test_a_softening_bilinear_law_is_found_and_chosen():
+    calibration = Stick(**FAST).fit(building(SOFTENING)).calibration_
+    assert calibration.law == "bilinear"
+    found = calibration.fits["bilinear"].parameters
+    assert np.allclose(found["alpha"], -0.05, rtol=1e-3)
+    assert np.allclose(found["yield_displacement"], SOFTENING["yield_displacement"], rtol=1e-3)
+    assert max(calibration.fits["bilinear"].errors) < 1e-6
+    # the monotonic curve falls: the laws that cannot soften stay at alpha = 0 and miss it
+    assert min(calibration.fits["peak-oriented"].parameters["alpha"]) >= 0.0
+    assert min(calibration.fits["peak-oriented"].errors) > 1e-2
+
+
+def test_a_calibration_is_held_within_each_laws_alpha_bounds():
+    law = {"alpha": (-0.7, -0.05, 1.0), "yield_displacement": (0.01, 0.01, 0.01)}
+    softening = LAW_SPACES["bilinear"].held_within_fit({"name": "bilinear", **law})
+    assert softening["alpha"] == (-0.5, -0.05, 0.99)
+    hardening = LAW_SPACES["peak-oriented"].held_within_fit({"name": "peak-oriented", **law})
+    assert hardening["alpha"] == (0.0, 0.0, 0.99)
+    assert hardening["yield_displacement"] == law["yield_displacement"]
 
 
 PINCHING = {

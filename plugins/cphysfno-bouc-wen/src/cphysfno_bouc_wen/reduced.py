@@ -27,7 +27,8 @@ class ReducedModel(NamedTuple):
     ``q`` is in m sqrt(kg); the shapes that map it to metres are in 1/sqrt(kg).
 
     Attributes:
-        stiffness: ``[r]`` kappa, 1/s^2 (post-yield elastic part, ``alpha K``).
+        stiffness: ``[r]`` kappa, 1/s^2 (post-yield elastic part, ``alpha K``; negative
+            where ``alpha`` is).
         damping: ``[r, r]`` C_r, 1/s.
         hysteretic: ``[r, d]`` B_h, from Bouc-Wen displacements h (m) to ``q''``.
         drift: ``[d, r]`` D, from ``q`` to story drifts (m).

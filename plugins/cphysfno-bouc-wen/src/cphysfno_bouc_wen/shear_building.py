@@ -413,7 +413,8 @@ class ShearBuilding(Structure):
         and the pattern changes only how far each story goes for a roof drift. This
         pushover deforms the building with the same drift ratio in every story (story
         ``i``'s drift is ``roof_drift_ratio`` times its height) and returns the story
-        shears of :meth:`story_shears` along it; it never loses strength or stops early.
+        shears of :meth:`story_shears` along it; it never stops early (a story whose law
+        softens past yield, a negative ``alpha``, loses strength along it).
 
         Args:
             roof_drift_ratio: ``[p]`` roof displacement over the building's height, from 0.

@@ -30,8 +30,9 @@ class Stick(PhysicsPreprocessor):
     (:func:`~cphysfno_physics.stick_calibration.calibrate`): the floor masses, the story
     heights, initial stiffnesses that give the structure's first period, the structure's
     damping, and one story law for every story, chosen among ``laws`` and fitted story by
-    story to the cyclic curves. :meth:`transform` simulates that building on its compiled
-    kernel; the structure is not called again.
+    story to the monotonic and cyclic curves together (the monotonic one shows a story
+    that softens past the cycles' drifts). :meth:`transform` simulates that building on its
+    compiled kernel; the structure is not called again.
 
     The stick has one degree of freedom a floor: it cannot follow torsion, strong higher
     modes or a building whose stories do not behave as shear springs (a soft first story

@@ -1,11 +1,14 @@
 """Story laws fitted to a structure's pushover: the calibration of the ``stick`` preprocessor.
 
 Each candidate law (a registered story law with a yield drift: ``bilinear``,
-``peak-oriented``, ``bouc-wen``, ``pinching``) is fitted to every story's cyclic
-shear-drift curve by least squares on the story shear, replaying the story's drift
-history through the law's compiled functions (the story test of a ``shear-building``,
-``ShearBuilding.story_shears``, the kernel family that then simulates the stick). The
-law whose worst story fits best is chosen.
+``peak-oriented``, ``bouc-wen``, ``pinching``) is fitted to every story's monotonic and
+cyclic shear-drift curves together by least squares on the story shear, replaying the
+story's drift histories through the law's compiled functions (the story test of a
+``shear-building``, ``ShearBuilding.story_shears``, the kernel family that then simulates
+the stick). The monotonic curve goes further than the cycles (by default to 3 % of roof
+drift against 2 %), so a story that softens there (P-Delta, capping) is seen; ``bilinear``
+and ``bouc-wen`` can follow it with a negative post-yield ratio. The law whose worst story
+fits best is chosen.
 """
 
 from __future__ import annotations
@@ -29,8 +32,13 @@ MAX_ITERATIONS = 50
 POST_YIELD_SHARE = 0.2
 """Last fraction of the monotonic curve whose slope starts the post-yield stiffness."""
 
-ALPHA_BOUNDS = (0.0, 0.99)
-"""The post-yield stiffness ratio ``alpha`` the fit can reach."""
+HARDENING = (0.0, 0.99)
+"""The post-yield stiffness ratios ``alpha`` the fit can reach for a law whose backbone
+does not fall past yield."""
+
+SOFTENING = (-0.5, 0.99)
+"""The post-yield stiffness ratios ``alpha`` the fit can reach for a law that may soften
+past yield (``bilinear`` and ``bouc-wen``, whose ``alpha`` goes down to -0.5)."""
 
 
 @dataclass(frozen=True)
@@ -41,6 +49,8 @@ class LawSpace:
 
     Attributes:
         name: the story law's registry name.
+        alpha_bounds: ``(lower, upper)`` of ``alpha``: :data:`SOFTENING` where the law
+            takes a negative one, else :data:`HARDENING`.
         shape_starts: starting values of the shape parameters (one tuple per start).
         shape_bounds: ``(lower, upper)`` of each shape parameter.
         shape_names: the law's parameter each shape parameter is, or None where it is
@@ -50,6 +60,7 @@ class LawSpace:
     """
 
     name: str
+    alpha_bounds: tuple[float, float] = HARDENING
     shape_starts: tuple[tuple[float, ...], ...] = ((),)
     shape_bounds: tuple[tuple[float, float], ...] = ()
     shape_names: tuple[str | None, ...] = ()
@@ -61,7 +72,7 @@ class LawSpace:
         """``story_law`` (a ``shear-building``'s, one value per story of each parameter)
         with each parameter the fit bounds held within those bounds: a calibration
         interpolated between fitted sticks stays a law the fit could have made."""
-        bounds = {"alpha": ALPHA_BOUNDS}
+        bounds = {"alpha": self.alpha_bounds}
         bounds.update(
             (name, b) for name, b in zip(self.shape_names, self.shape_bounds, strict=True) if name
         )
@@ -99,10 +110,11 @@ def _pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, flo
 
 
 LAW_SPACES = {
-    "bilinear": LawSpace("bilinear"),
+    "bilinear": LawSpace("bilinear", SOFTENING),
     "peak-oriented": LawSpace("peak-oriented"),
     "bouc-wen": LawSpace(
         "bouc-wen",
+        SOFTENING,
         shape_starts=((1.5, 0.5), (4.0, 0.5), (10.0, 0.5)),
         shape_bounds=((1.0, 20.0), (0.02, 0.98)),
         shape_names=("exponent", None),
@@ -125,8 +137,9 @@ class LawFit:
 
     Attributes:
         parameters: the law's ``Params`` fields, one value per story (bottom first).
-        errors: ``[d]`` each story's RMS shear error over the cyclic curve divided by the
-            story's largest absolute shear on it.
+        errors: ``[d]`` each story's fit error, :func:`story_errors` over the points of
+            the monotonic and the cyclic curves together: the RMS shear error over them
+            divided by the story's largest absolute shear on them.
     """
 
     parameters: dict[str, list[float]]
@@ -142,8 +155,9 @@ class StickCalibration:
     """A shear building fitted to a structure: what builds it and how well it fits.
 
     Attributes:
-        backbone: the monotonic pushover (initial stiffnesses, first guesses).
-        cyclic: the cyclic pushover the laws are fitted to.
+        backbone: the monotonic pushover (initial stiffnesses, first guesses), which the
+            laws are fitted to with the cyclic one.
+        cyclic: the cyclic pushover.
         stiffness: ``[d]`` initial story stiffnesses of the stick, N/m: the backbone's
             initial slopes times ``stiffness_scale``.
         stiffness_scale: the factor that gives the stick the structure's first period.
@@ -234,15 +248,18 @@ def chain_periods(masses: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
     return 2.0 * np.pi / np.sqrt(squares)
 
 
-def first_guess(backbone: StoryPushover, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def first_guess(
+    backbone: StoryPushover, stiffness: np.ndarray, lowest: float
+) -> tuple[np.ndarray, np.ndarray]:
     """``([d] alpha, [d] u_y in m)``: the bilinear curve of each story's initial stiffness
-    through the end of its monotonic curve, with the slope of the curve's last
-    :data:`POST_YIELD_SHARE` after yield."""
+    (N/m) through the end of its monotonic curve, with the slope of the curve's last
+    :data:`POST_YIELD_SHARE` after yield (its ratio to the initial stiffness held in
+    ``[lowest, 0.9]``: a falling curve gives a negative ``alpha`` where ``lowest`` is)."""
     drift, shear = backbone.story_drift, backbone.story_shear
     p = drift.shape[0]
     start = min(int((1.0 - POST_YIELD_SHARE) * (p - 1)), p - 2)
     slope = (shear[-1] - shear[start]) / (drift[-1] - drift[start])
-    alpha = np.clip(slope / stiffness, 0.0, 0.9)
+    alpha = np.clip(slope / stiffness, lowest, 0.9)
     end = drift[-1]
     u_y = (shear[-1] - alpha * stiffness * end) / (stiffness * (1.0 - alpha))
     return alpha, np.clip(u_y, 1e-3 * end, end)
@@ -250,23 +267,26 @@ def first_guess(backbone: StoryPushover, stiffness: np.ndarray) -> tuple[np.ndar
 
 def fit_law(
     space: LawSpace,
-    cyclic: StoryPushover,
+    curves: Sequence[StoryPushover],
     stiffness: np.ndarray,
     guess: tuple[np.ndarray, np.ndarray],
 ) -> LawFit:
-    """Least squares on the story shears over the cyclic curve, every story at once (a
-    story's parameters touch its own shears only), from each of the law's starts; the
-    best start per story is kept.
+    """Least squares on the story shears over the points of every curve together, every
+    story at once (a story's parameters touch its own shears only), each story's residuals
+    divided by its largest absolute shear on the curves, from each of the law's starts;
+    the best start per story is kept.
 
     Args:
         space: the law and its parameters.
-        cyclic: the curves fitted.
+        curves: the pushovers fitted (the monotonic and the cyclic one), each replayed
+            from rest.
         stiffness: ``[d]`` the stick's initial story stiffnesses, N/m (held).
         guess: ``([d] alpha, [d] u_y)`` from :func:`first_guess`.
     """
-    d = cyclic.n_stories
+    d = curves[0].n_stories
     alpha0, u_y0 = guess
-    scale = np.abs(cyclic.story_shear).max(axis=0)
+    reference = np.vstack([curve.story_shear for curve in curves])
+    scale = np.abs(reference).max(axis=0)
     scale = np.where(scale > 0.0, scale, 1.0)
     width = 2 + len(space.shape_bounds)
 
@@ -281,18 +301,17 @@ def fit_law(
         }
 
     def shears(x: np.ndarray) -> np.ndarray:
-        return replay(story_laws(x), cyclic, stiffness)
+        return replay(story_laws(x), curves, stiffness)
 
     def residual(x: np.ndarray) -> np.ndarray:
-        return ((shears(x) - cyclic.story_shear) / scale).ravel()
+        return ((shears(x) - reference) / scale).ravel()
 
-    lower = np.tile([ALPHA_BOUNDS[0], 1e-3, *(b[0] for b in space.shape_bounds)], d)
-    upper = np.tile([ALPHA_BOUNDS[1], 1e3, *(b[1] for b in space.shape_bounds)], d)
-    sparsity = scipy.sparse.kron(
-        scipy.sparse.identity(d), np.ones((cyclic.story_shear.shape[0], width))
-    )
+    lower = np.tile([space.alpha_bounds[0], 1e-3, *(b[0] for b in space.shape_bounds)], d)
+    upper = np.tile([space.alpha_bounds[1], 1e3, *(b[1] for b in space.shape_bounds)], d)
+    points = reference.shape[0]
+    sparsity = scipy.sparse.kron(scipy.sparse.identity(d), np.ones((points, width)))
     # rows are ordered [point, story]: reorder the block-diagonal pattern to match
-    order = np.arange(d * cyclic.story_shear.shape[0]).reshape(d, -1).T.ravel()
+    order = np.arange(d * points).reshape(d, -1).T.ravel()
     sparsity = sparsity.tocsr()[order]
     best_x, best_error = None, np.full(d, np.inf)
     for shape in space.shape_starts:
@@ -309,7 +328,7 @@ def fit_law(
             gtol=1e-12,
             max_nfev=MAX_ITERATIONS,
         )
-        error = story_errors(shears(result.x), cyclic.story_shear)
+        error = story_errors(shears(result.x), reference)
         if best_x is None:
             best_x = result.x.reshape(d, width).copy()
         better = error < best_error
@@ -320,23 +339,30 @@ def fit_law(
     return LawFit(parameters, best_error.tolist())
 
 
-def replay(story_law: dict[str, Any], curves: StoryPushover, stiffness: np.ndarray) -> np.ndarray:
+def replay(
+    story_law: dict[str, Any],
+    curves: StoryPushover | Sequence[StoryPushover],
+    stiffness: np.ndarray,
+) -> np.ndarray:
     """``[p, d]`` story shears (N) of a shear building of ``stiffness`` (N/m) and
-    ``story_law`` driven along the story drifts of ``curves``."""
+    ``story_law`` driven along the story drifts of ``curves``: one pushover, or several,
+    each from rest, their points one after the other."""
+    several = (curves,) if isinstance(curves, StoryPushover) else tuple(curves)
     building = create(
         "structure",
         "shear-building",
-        masses=tuple(curves.masses.tolist()),
+        masses=tuple(several[0].masses.tolist()),
         stiffnesses=tuple(np.asarray(stiffness, dtype=np.float64).tolist()),
-        story_heights=tuple(curves.heights.tolist()),
+        story_heights=tuple(several[0].heights.tolist()),
         story_law=story_law,
     )
-    return building.story_shears(curves.story_drift)
+    return np.vstack([building.story_shears(curve.story_drift) for curve in several])
 
 
 def story_errors(shear: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """``[d]`` RMS of ``shear - reference`` over the points, over the largest absolute
-    ``reference`` shear, per story (each ``[p, d]``, N)."""
+    ``reference`` shear, per story (each ``[p, d]``, N; the fit's errors are over the
+    points of the monotonic and the cyclic curves one after the other)."""
     rms = np.sqrt(np.mean((shear - reference) ** 2, axis=0))
     peak = np.abs(reference).max(axis=0)
     return rms / np.where(peak > 0.0, peak, 1.0)
@@ -347,9 +373,10 @@ def fit_laws(
 ) -> tuple[str, dict[str, LawFit]]:
     """Fit every law in ``laws`` (names in :data:`LAW_SPACES`) and choose one.
 
-    The chosen law has the lowest worst-story error (:attr:`LawFit.worst`: RMS shear error
-    over the cyclic curve over the story's peak shear); a tie goes to the law listed
-    first.
+    Each law is fitted to the monotonic and the cyclic curves together (:func:`fit_law`)
+    from its own :func:`first_guess`. The chosen law has the lowest worst-story error
+    (:attr:`LawFit.worst`: RMS shear error over the points of both curves over the
+    story's peak shear on them); a tie goes to the law listed first.
 
     Returns:
         ``(chosen law's name, every fit by name)``.
@@ -362,8 +389,11 @@ def fit_laws(
         raise ConfigError(
             f"stick.laws: the calibration fits {', '.join(LAW_SPACES)}; got {list(laws)}"
         )
-    guess = first_guess(backbone, stiffness)
-    fits = {name: fit_law(LAW_SPACES[name], cyclic, stiffness, guess) for name in laws}
+    fits: dict[str, LawFit] = {}
+    for name in laws:
+        space = LAW_SPACES[name]
+        guess = first_guess(backbone, stiffness, space.alpha_bounds[0])
+        fits[name] = fit_law(space, (backbone, cyclic), stiffness, guess)
     chosen = min(laws, key=lambda name: fits[name].worst)
     return chosen, fits
 
@@ -407,7 +437,8 @@ def calibrate(
       equivalent linear system; a warning names the modes whose ratio in the stick is more
       than ``tolerance`` (relative) from the structure's (a damping that is neither
       classical nor Rayleigh, such as mass-proportional damping alone).
-    - Story law: :func:`fit_laws` on the cyclic curves, at those stiffnesses.
+    - Story law: :func:`fit_laws` on the monotonic and cyclic curves, at those
+      stiffnesses.
     """
     count = min(backbone.n_stories, len(structure.periods()))
     periods = np.asarray(structure.periods(count), dtype=np.float64)

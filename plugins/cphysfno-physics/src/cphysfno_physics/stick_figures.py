@@ -12,8 +12,8 @@ from matplotlib.figure import Figure
 from .stick_calibration import StickCalibration, replay
 
 FIT_WARNING = 0.10
-"""Worst-story fit error (RMS shear error over peak shear on the cyclic pushover) above
-which the summary says that the stick does not follow the structure."""
+"""Worst-story fit error (RMS shear error over peak shear on the monotonic and cyclic
+pushovers) above which the summary says that the stick does not follow the structure."""
 
 
 def write_stick_artifacts(calibration: StickCalibration, directory: Path) -> list[Path]:
@@ -30,7 +30,7 @@ def write_stick_artifacts(calibration: StickCalibration, directory: Path) -> lis
 
 def summary_lines(calibration: StickCalibration) -> list[str]:
     """The calibration in a few Markdown lines, with a warning where the chosen law does
-    not follow the structure's cyclic curves (worst story beyond :data:`FIT_WARNING`)."""
+    not follow the structure's curves (worst story beyond :data:`FIT_WARNING`)."""
     chosen = calibration.fits[calibration.law]
     others = ", ".join(
         f"{name} {fit.worst:.3f}"
@@ -41,7 +41,7 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
     stick = ", ".join(f"{p:.3f}" for p in calibration.stick_periods)
     lines = [
         f"Stick: story law `{calibration.law}`, worst-story fit error {chosen.worst:.3f} (RMS "
-        "shear error over the peak shear on the cyclic pushover"
+        "shear error over the peak shear on the monotonic and cyclic pushovers"
         + (f"; the other laws: {others}" if others else "")
         + f"). Periods, structure: {periods} s; stick: {stick} s (stiffness scale "
         f"{calibration.stiffness_scale:.3f}). Damping ratio {calibration.damping_ratio:.3f}"
@@ -56,7 +56,7 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
         lines += [
             "",
             f"**The stick does not follow this structure closely**: its best law misses the "
-            f"cyclic story shear by {chosen.worst:.0%} of the peak in the worst story "
+            f"pushovers' story shear by {chosen.worst:.0%} of the peak in the worst story "
             f"(over {FIT_WARNING:.0%}); its z is a weak physics input here.",
         ]
     return lines

@@ -6,14 +6,18 @@ import numba
 from cphysfno_core.plugin import LawFunctions, Params
 from pydantic import Field
 
-from .common import LAW_JIT, PerStory, RatioPerStory
+from .common import LAW_JIT, PerStory, PostYieldRatioPerStory
 from .yielding import YieldingLaw
 
 
 class BilinearLawParams(Params):
     """Parameters of :class:`BilinearLaw` (scalars or one value per story)."""
 
-    alpha: RatioPerStory = Field(0.1, description="post-yield to initial stiffness ratio")
+    alpha: PostYieldRatioPerStory = Field(
+        0.1,
+        description="post-yield to initial stiffness ratio, -0.5 to 1 (negative: softening "
+        "past yield, such as P-Delta)",
+    )
     yield_displacement: PerStory = Field(description="yield drift u_y, m")
 
 
@@ -47,6 +51,14 @@ class BilinearLaw(YieldingLaw):
     ``F = k u_y`` and then stiffens at ``alpha k``; unloading is elastic (``k``), and the
     elastic range stays ``2 u_y`` wide wherever it has moved (OpenSees' ``Steel01`` with
     ``b = alpha`` and no isotropic hardening).
+
+    A negative ``alpha`` (down to :data:`~.common.SOFTENING_LIMIT`) is a softening past
+    yield, such as P-Delta: a story of this law (``k``, ``alpha``, ``u_y``) with the
+    geometric stiffness ``-k_g v`` of its gravity load (``k_g = P / H`` in N/m, the load P
+    in N over the story height H in m) is exactly this law with ``k - k_g``,
+    ``(alpha k - k_g) / (k - k_g)`` and the same ``u_y``. Its force then falls past yield
+    and changes sign at ``v = u_y (1 - 1 / alpha)``: past that drift the story has no
+    strength left.
     """
 
     name = "bilinear"

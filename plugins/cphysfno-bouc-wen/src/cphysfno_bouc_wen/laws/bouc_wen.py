@@ -7,14 +7,18 @@ import numpy as np
 from cphysfno_core.plugin import LawFunctions, Params, per_story
 from pydantic import Field
 
-from .common import LAW_JIT, ExponentPerStory, PerStory, RatioPerStory, no_settling
+from .common import LAW_JIT, ExponentPerStory, PerStory, PostYieldRatioPerStory, no_settling
 from .yielding import YieldingLaw
 
 
 class BoucWenLawParams(Params):
     """Parameters of :class:`BoucWenLaw` (scalars or one value per story)."""
 
-    alpha: RatioPerStory = Field(0.1, description="post-yield to initial stiffness ratio")
+    alpha: PostYieldRatioPerStory = Field(
+        0.1,
+        description="post-yield to initial stiffness ratio, -0.5 to 1 (negative: softening "
+        "past yield, such as P-Delta)",
+    )
     exponent: ExponentPerStory = Field(3.0, description="smoothness exponent n, 1 to 50")
     A: PerStory = Field(1.0, description="amplitude A")
     yield_displacement: PerStory = Field(0.01, description="yield drift u_y, m")
@@ -52,6 +56,12 @@ class BoucWenLaw(YieldingLaw):
 
     ``beta = gamma = 1/(2 u_y^n)`` unless given: with ``A = 1`` the hysteretic part then
     saturates at ``|h| = u_y``, the formulation of the paper's Example 1 building.
+
+    A negative ``alpha`` (down to :data:`~.common.SOFTENING_LIMIT`) is a softening past
+    yield, such as P-Delta: ``h`` depends on neither ``k`` nor ``alpha``, so a story of
+    this law with the geometric stiffness ``-k_g v`` of its gravity load (``k_g = P / H``
+    in N/m, the load P in N over the story height H in m) is exactly this law with
+    ``k - k_g`` and ``(alpha k - k_g) / (k - k_g)``, the rest unchanged.
     """
 
     name = "bouc-wen"

@@ -23,6 +23,20 @@ PerStory = PositiveFloat | tuple[PositiveFloat, ...]
 RatioPerStory = Ratio | tuple[Ratio, ...]
 """A ratio in [0, 1] for every story, or one per story."""
 
+SOFTENING_LIMIT = -0.5
+"""The lowest post-yield stiffness ratio ``alpha`` of a law that may soften past yield:
+the P-Delta of a perfectly plastic story (``alpha = -theta / (1 - theta)``) whose
+stability coefficient ``theta = P / (k H)`` (gravity load P in N over the story's initial
+stiffness k in N/m times its height H in m) is 1/3, beyond the 0.25 that ASCE 7 allows
+in design."""
+
+PostYieldRatio = Annotated[float, Field(ge=SOFTENING_LIMIT, le=1.0)]
+"""A post-yield stiffness ratio in [:data:`SOFTENING_LIMIT`, 1]: negative where the story
+softens past yield."""
+
+PostYieldRatioPerStory = PostYieldRatio | tuple[PostYieldRatio, ...]
+"""A post-yield stiffness ratio for every story, or one per story."""
+
 Exponent = Annotated[float, Field(ge=1.0, le=50.0)]
 """A smoothness exponent in [1, 50]."""
 

@@ -13,7 +13,7 @@ from .yielding import YieldingLaw
 class PeakOrientedLawParams(Params):
     """Parameters of :class:`PeakOrientedLaw` (scalars or one value per story)."""
 
-    alpha: RatioPerStory = Field(0.05, description="post-yield to initial stiffness ratio")
+    alpha: RatioPerStory = Field(0.05, description="post-yield to initial stiffness ratio, 0 to 1")
     yield_displacement: PerStory = Field(description="yield drift u_y, m")
 
 
@@ -155,6 +155,12 @@ class PeakOrientedLaw(YieldingLaw):
     excursion past yield lowers the reloading stiffness. No strength deterioration and no
     pinching: OpenSees' ``Hysteretic`` material with ``pinchX = pinchY = 1``, no damage
     and ``beta = 0`` follows the same loops.
+
+    ``alpha`` is not negative here, unlike ``bilinear`` and ``bouc-wen``: the rules tell
+    unloading from loading by the sign of the force and aim reloading at the backbone's
+    force at the peak, while a falling backbone's force changes sign at
+    ``u_y (1 - 1 / alpha)``; past that drift a peak's force would be of the other sign and
+    its loop undefined. A story that softens past yield takes one of those two laws.
     """
 
     name = "peak-oriented"

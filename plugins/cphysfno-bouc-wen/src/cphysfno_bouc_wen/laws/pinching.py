@@ -25,7 +25,7 @@ whose edits a cache on disk keyed on this file would not see."""
 class PinchingLawParams(Params):
     """Parameters of :class:`PinchingLaw` (scalars or one value per story)."""
 
-    alpha: RatioPerStory = Field(0.05, description="post-yield to initial stiffness ratio")
+    alpha: RatioPerStory = Field(0.05, description="post-yield to initial stiffness ratio, 0 to 1")
     yield_displacement: PerStory = Field(description="yield drift u_y, m")
     pinch_x: RatioPerStory = Field(
         0.8,
@@ -75,6 +75,8 @@ class PinchingLaw(YieldingLaw):
     below yield, where this law aims at the yield point; and with ``beta`` near 1, where a
     force keeps its sign past the other side's last zero crossing, it sets the force to
     zero, where this law keeps it on its branch.
+
+    ``alpha`` is not negative, for the reason :class:`PeakOrientedLaw` gives.
     """
 
     name = "pinching"
