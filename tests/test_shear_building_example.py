@@ -92,7 +92,7 @@ def test_fragility_writes_where_it_is_told(run, tmp_path):
         (["--im", "sa:-1"], "periods must be numbers of s > 0"),
         (["--config", "nowhere.toml"], "nowhere.toml"),
         (["--limit-states", "drift=0.01"], "unknown EDP 'drift': the EDPs are PID"),
-        (["--limit-states", "pr=10"], "PR (peak of each named response"),
+        (["--limit-states", "pr=10"], "(PR) need a model that learns them"),
         (["--limit-states", "pd:roof=0.1"], "'roof' is not a column of pd; its columns are"),
         (["--model", "nothing"], "no saved model 'nothing'"),
     ],

@@ -299,7 +299,8 @@ def predict_file(
     if stages.acceleration is not None:
         arrays["acceleration"] = stages.acceleration
     if stages.responses:
-        units = {c.name: c.unit for c in model.structure.response_channels()}
+        channels = () if model.structure is None else model.structure.response_channels()
+        units = {c.name: c.unit for c in channels}
         arrays["responses"] = np.concatenate(list(stages.responses.values()), axis=2)
         arrays["response_names"] = np.array(list(stages.responses))
         arrays["response_units"] = np.array([units.get(n, "") for n in stages.responses])
