@@ -167,6 +167,11 @@ def test_each_named_response_is_its_own_group_of_the_loss(tmp_path):
     assert again.response_names == ("shear", "force")
     for name, values in again.predict_stages(motions).responses.items():
         np.testing.assert_allclose(values, stages.responses[name], rtol=1e-6)
+    saved = json.loads((tmp_path / "m" / "model.json").read_text())
+    saved["responses"] = ["shear"]  # one channel left unaccounted for
+    (tmp_path / "m" / "model.json").write_text(json.dumps(saved))
+    with pytest.raises(cp.DatasetError, match="output channels are not the model's"):
+        cp.CompositeModel.load(tmp_path / "m")
     assert edp.EDP_TABLE["PR"].scored
 
 

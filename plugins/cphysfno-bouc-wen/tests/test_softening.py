@@ -237,3 +237,37 @@ def test_the_restoring_force_of_a_softening_story(name) -> None:
     expected = FOLDED_STIFFNESS * (FOLDED_ALPHA * 4.0 + 1.0 - FOLDED_ALPHA) * YIELD
     np.testing.assert_allclose(force, [[expected]], rtol=1e-12)
     np.testing.assert_allclose(building.linear_system().stiffness, [[FOLDED_STIFFNESS]])
+
+
+@pytest.mark.parametrize(
+    "law",
+    [
+        {"name": "bilinear", "alpha": -0.5, "yield_displacement": YIELD},
+        {"name": "bouc-wen", "alpha": -0.5},
+    ],
+)
+def test_a_story_driven_past_its_zero_strength_collapses_instead_of_failing(law):
+    """With alpha = -0.5 the story has no strength left past 3 yield drifts: a resonant
+    sine drives it there and it runs away. The record is a collapse (NaN from where it
+    overflowed), a weak record beside it is not."""
+    building = story(law)
+    period = float(building.periods()[0])
+    t = np.arange(0.0, 20.0, DT)
+    resonant = 20.0 * np.sin(2.0 * np.pi * t / period)
+    responses = building.simulate(GroundMotions(np.stack([resonant, 0.01 * resonant]), DT))
+    assert responses.collapsed.tolist() == [True, False]
+    drift = responses.displacement[0, :, 0]
+    assert np.isnan(drift[-1]) and np.isfinite(drift[0])
+    assert np.isfinite(responses.displacement[1]).all()
+
+
+def test_a_story_that_cannot_soften_still_blames_the_step_when_it_diverges():
+    building = story({"name": "bilinear", "alpha": 0.02, "yield_displacement": YIELD},
+                     substeps=1)  # fmt: skip
+    stiff = create("structure", "shear-building", masses=(MASS,), stiffnesses=(1e12,),
+                   story_law={"name": "bilinear", "alpha": 0.02, "yield_displacement": 1.0},
+                   substeps=1)  # fmt: skip
+    assert not building.softens
+    t = np.arange(0.0, 2.0, DT)
+    with pytest.raises(Exception, match="raise substeps"):
+        stiff.simulate(GroundMotions(np.sin(t)[None], DT))

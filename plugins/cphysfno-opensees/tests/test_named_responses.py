@@ -108,6 +108,7 @@ def test_a_response_the_model_cannot_give_is_refused_when_the_model_is_built(
     [
         ([BASE_SHEAR, BASE_SHEAR], "the names base_shear are taken"),
         ([BASE_SHEAR | {"name": "absolute_acceleration"}], "absolute_acceleration are taken"),
+        ([BASE_SHEAR | {"name": "displacement"}], "displacement are taken"),
         ([{k: v for k, v in BASE_SHEAR.items() if k != "dof"}], "nodeReaction needs nodes"),
         ([SPRING_2 | {"nodes": [1]}], "eleResponse needs elements"),
         ([BASE_SHEAR | {"pelicun_type": "vb"}], "pelicun_type"),

@@ -99,6 +99,18 @@ def test_secant_els_solves_each_record_at_the_secant_of_its_own_peak():
     assert k0 == 4.0e6
 
 
+def test_secant_els_of_a_softening_story_keeps_the_secants_that_are_left():
+    """alpha = -0.5: the story's strength is gone past 3 yield drifts (6 cm); the pushover
+    to 10 % goes beyond, where no secant stiffness is left, and the secant curve stops."""
+    els = create("preprocessor", "els", stiffness="secant", target_drift_ratio=0.1).fit(
+        _isolator(alpha=-0.5)
+    )
+    roof, secant = els.secant_
+    assert roof.max() < 0.06 and secant.min() > 0.0
+    z = els.transform(_records(3.0))
+    assert np.isfinite(z).all()
+
+
 def test_secant_els_is_the_initial_one_below_yield_and_closer_past_it(relative_l2):
     structure = _isolator()
     initial = create("preprocessor", "els").fit(structure)

@@ -192,6 +192,21 @@ def test_a_softening_bilinear_law_is_found_and_chosen():
     assert min(calibration.fits["peak-oriented"].errors) > 1e-2
 
 
+def test_a_softening_stick_that_collapses_says_so_and_gives_no_z_there():
+    softening = building(SOFTENING)
+    stick = Stick(**FAST).fit(softening)
+    period = float(softening.periods()[0])
+    t = np.arange(0.0, 20.0, 0.01)
+    resonant = 30.0 * np.sin(2.0 * np.pi * t / period)
+    motions = GroundMotions(np.stack([resonant, 0.01 * resonant]), 0.01)
+    truth = softening.simulate(motions)
+    assert truth.collapsed.tolist() == [True, False]  # the building itself collapses
+    with pytest.warns(CphysfnoWarning, match=r"1 of 2 records \(first \[0\]\) drive a story"):
+        z = stick.transform(motions)
+    assert np.isnan(z[0, -1]).all() and np.isfinite(z[0, 0]).all()
+    np.testing.assert_allclose(z[1], truth.displacement[1], rtol=1e-3, atol=1e-6)
+
+
 def test_a_calibration_is_held_within_each_laws_alpha_bounds():
     law = {"alpha": (-0.7, -0.05, 1.0), "yield_displacement": (0.01, 0.01, 0.01)}
     softening = LAW_SPACES["bilinear"].held_within_fit({"name": "bilinear", **law})

@@ -82,6 +82,12 @@ class StoryLaw(Component, ABC):
         law that stays elastic. The physics checks drive stories past it."""
         return None
 
+    def strength_lost_drift(self, n_stories: int) -> np.ndarray:
+        """``[d]`` the drift (m) beyond which a story has no strength left (a law that
+        softens past yield), ``inf`` where it keeps some (the default): a shear building
+        flags a record that drives a story past it as a collapse."""
+        return np.full(n_stories, np.inf)
+
 
 def per_story(value: float | Sequence[float], n_stories: int, field: str) -> np.ndarray:
     """``[n_stories]`` float64 values from a scalar or one value per story.

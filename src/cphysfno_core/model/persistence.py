@@ -112,6 +112,26 @@ def _providers(model: Any) -> dict[str, str]:
     return found
 
 
+def _check_channels(model: Any, directory: Path) -> None:
+    """Refuse a model whose operator's output channels are not its displacements, its
+    accelerations (``formulation.accelerations``) and its named responses."""
+    formulation, names = model.formulation, model.response_names
+    kinds = 2 if formulation.accelerations else 1
+    rest = model.operator_.out_channels - len(names)
+    outputs = None if model.structure is None else model.structure.n_outputs
+    if (
+        bool(names) != formulation.responses
+        or rest <= 0
+        or rest % kinds
+        or (outputs is not None and rest != kinds * outputs)
+    ):
+        raise DatasetError(
+            f"{directory}: the operator's {model.operator_.out_channels} output channels are "
+            f"not the model's outputs ({outputs}), accelerations ({formulation.accelerations}) "
+            f"and named responses ({list(names)}): a tampered or mismatched model.json"
+        )
+
+
 def save_model(model: Any, directory: str | Path) -> Path:
     """Write ``model.json`` (parts by name and parameters), ``operator.pt`` (tensors
     only) and ``arrays.npz`` (normalisers, refiner state) into ``directory``; for a
@@ -239,6 +259,7 @@ def load_model(directory: str | Path, factory: Callable[..., Any]) -> Any:
         model.grid_ = TimeGrid(saved.grid.dt, saved.grid.n_steps)
     model.training_pga_ = saved.training_pga
     model.response_names_ = tuple(saved.responses)
+    _check_channels(model, directory)
     model.parameters_ = None
     if saved.parameters is not None:
         scale = {k[len(PARAMETERS) :]: v for k, v in arrays.items() if k.startswith(PARAMETERS)}

@@ -6,9 +6,10 @@ as ``.npy`` (``[N, T]`` or ``[T]``, with the step and the unit given separately)
 unit of :data:`ACCELERATION_UNITS` (m/s^2 with a warning where none is said), or as AT2
 records (g). The output ``.npz`` holds ``mean`` and ``std`` ``[N, T, dof]`` in m, the
 operator output, ``z`` for a C-Phys model, ``acceleration`` (m/s^2) for a model that
-learns it, ``dt`` and ``output_names``. A model of a family of structures takes each
-record's structural parameters from a CSV file (:func:`read_parameters`); the file then
-also holds them (``params``, ``param_names``).
+learns it, ``responses`` ``[N, T, k]`` with ``response_names`` and ``response_units`` for a
+model that learns named responses, ``dt`` and ``output_names``. A model of a family of
+structures takes each record's structural parameters from a CSV file
+(:func:`read_parameters`); the file then also holds them (``params``, ``param_names``).
 """
 
 from __future__ import annotations
@@ -300,10 +301,10 @@ def predict_file(
         arrays["acceleration"] = stages.acceleration
     if stages.responses:
         channels = () if model.structure is None else model.structure.response_channels()
-        units = {c.name: c.unit for c in channels}
+        unit_of = {c.name: c.unit for c in channels}
         arrays["responses"] = np.concatenate(list(stages.responses.values()), axis=2)
         arrays["response_names"] = np.array(list(stages.responses))
-        arrays["response_units"] = np.array([units.get(n, "") for n in stages.responses])
+        arrays["response_units"] = np.array([unit_of.get(n, "") for n in stages.responses])
     if given:
         arrays["params"] = np.column_stack(list(per_record(given, motions.n_records).values()))
         arrays["param_names"] = np.array(list(given))

@@ -288,13 +288,14 @@ def fit_and_predict(
     first_period: float,
 ) -> dict[str, dict[str, edp.EDPs]]:
     """Both baselines fitted on the training records' scored EDPs (PID per story, PFA and
-    PFV per floor above the ground, PD per output: :func:`~cphysfno_core.edp.scored_names`),
-    predicting the records of each motion set in ``targets``.
+    PFV per floor above the ground, PD per output, PR per named response the structure
+    records: :func:`~cphysfno_core.edp.scored_names`), predicting the records of each
+    motion set in ``targets``.
 
     Returns:
         ``{label: {target name: EDPs}}`` for each label of :data:`BASELINES`; the predicted
-        EDPs have the ground's column of the motions themselves (PGA, PGV) and no RID or
-        named responses (a peak-EDP regression says nothing of them).
+        EDPs have the ground's column of the motions themselves (PGA, PGV) and no RID (a
+        peak-EDP regression says nothing of it).
     """
     keys = edp.scored_names(train)
     starts = [edp.EDP_TABLE[key].first_location for key in keys]

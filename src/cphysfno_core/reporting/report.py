@@ -412,7 +412,7 @@ def _edp_section(evaluation: Evaluation, structure: str) -> list[str]:
         what = edp.EDP_TABLE[key]
         lines += ["", f"### {what.title[0].upper()}{what.title[1:]} ({key}, {what.unit})", ""]
         lines += _edp_table(rows, key, names)
-    lines += _simulated_only_lines(truth)
+    lines += _named_response_peaks(truth)
     lines += _baseline_lines(evaluation)
     refined = {k: v for k, v in models.items() if "edp_coverage_68" in v}
     if refined:
@@ -447,14 +447,14 @@ def _baseline_lines(evaluation: Evaluation) -> list[str]:
     lines += [""] + (
         [f"**Note:** {line}." for line in beaten]
         or [
-            "Every EDP at every story and floor is predicted better by a trained model than by "
-            "both baselines."
+            "Every EDP a trained model predicts is predicted better, at every story and "
+            "floor, by a trained model than by both baselines."
         ]
     )
     return lines
 
 
-def _simulated_only_lines(truth: edp.EDPs) -> list[str]:
+def _named_response_peaks(truth: edp.EDPs) -> list[str]:
     """The median simulated peak of each named response (EDP ``PR``)."""
     if "PR" not in truth.values:
         return []

@@ -129,7 +129,10 @@ class ShearBuilding(Structure):
 
     Outputs are the floor displacements relative to the ground (m), bottom floor first,
     with the extras ``"story_drift"`` (m) and ``"story_shear"`` (N), each
-    ``[n, T, n_stories]``.
+    ``[n, T, n_stories]``. A story law that softens past yield (``alpha < 0``) loses its
+    strength at a large enough drift; a record that drives a story there runs away and is
+    flagged ``collapsed`` (:attr:`Responses.collapsed`), its rows NaN from where the
+    integration overflowed.
     """
 
     name = "shear-building"
@@ -325,14 +328,31 @@ class ShearBuilding(Structure):
                 motions.dt,
                 substeps,
             )
-        if not finite.all():
+        extras = {"story_drift": drift, "story_shear": shear}
+        if not finite.all() and not self.softens:
             raise CphysfnoError(
                 f"{self.name}: the Runge-Kutta integration diverged for record "
                 f"{int(np.argmin(finite))}: its step dt/substeps = "
                 f"{motions.dt / substeps:.3g} s is too long for the shortest period "
                 f"{self.periods()[-1]:.3g} s; raise substeps"
             )
-        return Responses(displacement, motions.dt, {"story_drift": drift, "story_shear": shear})
+        if not self.softens:
+            return Responses(displacement, motions.dt, extras)
+        # a story past the drift where its strength is gone runs away: a collapse, NaN after
+        gone = ~np.isfinite(drift).all(axis=2) | (
+            np.abs(drift) > self.story_law.strength_lost_drift(self.n_stories)
+        ).any(axis=2)
+        after = np.logical_or.accumulate(gone, axis=1)
+        for values in (displacement, *extras.values()):
+            values[after] = np.nan
+        return Responses(displacement, motions.dt, extras, collapsed=after[:, -1])
+
+    @property
+    def softens(self) -> bool:
+        """Whether a story's strength may be lost (a story law that softens past yield,
+        ``alpha < 0``): a record that drives it past
+        :meth:`~cphysfno_core.plugin.StoryLaw.strength_lost_drift` collapses."""
+        return bool(np.isfinite(self.story_law.strength_lost_drift(self.n_stories)).any())
 
     def _simulate_gauss(self, motions: GroundMotions) -> Responses:
         model = self._bouc_wen_model

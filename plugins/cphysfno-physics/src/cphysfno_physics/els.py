@@ -188,7 +188,9 @@ class ExactEquivalentLinear(EquivalentLinear):
 
 def secant_curve(structure: Structure, target_drift_ratio: float) -> tuple[tuple, int]:
     """``((roof displacement [p] m, secant over initial stiffness [p]), roof output)`` of
-    the structure's monotonic pushover (first mode times floor masses)."""
+    the structure's monotonic pushover (first mode times floor masses), up to where the
+    roof turns back or the base shear stops being positive (a structure that softens past
+    yield, P-Delta: no secant stiffness is left there)."""
     structure.require("pushover", "preprocessor 'els' with stiffness = 'secant'")
     structure.require("stories", "preprocessor 'els' with stiffness = 'secant'")
     stories = structure.stories()
@@ -202,5 +204,5 @@ def secant_curve(structure: Structure, target_drift_ratio: float) -> tuple[tuple
     roof = curve.story_drift.sum(axis=1)[1:]
     secant = curve.story_shear[1:, 0] / roof
     keep = np.concatenate([[True], np.diff(roof) > 0])  # up to where the roof turns back
-    keep = np.logical_and.accumulate(keep)
+    keep = np.logical_and.accumulate(keep & (secant > 0.0))
     return (roof[keep], secant[keep] / secant[0]), int(stories.upper[-1])

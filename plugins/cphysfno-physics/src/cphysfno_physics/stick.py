@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 from typing import Annotated, Any
 
 import numpy as np
 from pydantic import Field
 
-from cphysfno_core import ConfigError, GroundMotions, create, edp, plugin
+from cphysfno_core import ConfigError, CphysfnoWarning, GroundMotions, create, edp, plugin
 from cphysfno_core.plugin import PhysicsPreprocessor, Stories, Structure
 from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 
@@ -163,9 +164,22 @@ class Stick(PhysicsPreprocessor):
 
     def transform(self, motions: GroundMotions) -> np.ndarray:
         """``[n_records, n_steps, n_outputs]`` floor displacements (m) of the stick on the
-        motion's grid."""
+        motion's grid; NaN from where a story of a softening stick lost its strength (a
+        collapse of the stick, with a :class:`~cphysfno_core.CphysfnoWarning` naming the
+        records: no physics input for them)."""
         check_fitted(self, "stick_")
-        return self.stick_.simulate(motions).displacement[:, :, self.floors_]
+        responses = self.stick_.simulate(motions)
+        if responses.collapsed.any():
+            records = np.flatnonzero(responses.collapsed)
+            warnings.warn(
+                f"stick: {records.size} of {motions.n_records} records (first "
+                f"{records[:5].tolist()}) drive a story of the stick past the drift where its "
+                "softening law has no strength left: the stick collapses and its z is NaN "
+                "from there",
+                CphysfnoWarning,
+                stacklevel=2,
+            )
+        return responses.displacement[:, :, self.floors_]
 
     def write_artifacts(self, directory: Path) -> list[Path]:
         """The calibration (``stick.json``), its summary (``summary.md``, with a warning

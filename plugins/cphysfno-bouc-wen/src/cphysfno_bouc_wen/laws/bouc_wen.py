@@ -69,6 +69,16 @@ class BoucWenLaw(YieldingLaw):
     n_states = 1
     state_names = ("hysteretic displacement h, m",)
 
+    def hysteretic_bound(self, n_stories: int) -> np.ndarray:
+        """``[d]`` the magnitude (m) ``h`` saturates at, ``(A / (beta + gamma))^(1/n)``
+        (``inf`` where ``beta + gamma <= 0``: ``h`` grows without bound)."""
+        c = self.coefficients(np.ones(n_stories))
+        total = c[:, 3] + c[:, 4]
+        bound = np.full(n_stories, np.inf)
+        positive = total > 0.0
+        bound[positive] = (c[positive, 2] / total[positive]) ** (1.0 / c[positive, 5])
+        return bound
+
     def coefficients(self, stiffness: np.ndarray) -> np.ndarray:
         """``[d, 6]``: ``k`` (N/m), ``alpha``, ``A``, ``beta``, ``gamma`` (1/m^n), ``n``."""
         d = len(stiffness)

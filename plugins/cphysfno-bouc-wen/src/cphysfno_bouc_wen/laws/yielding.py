@@ -25,3 +25,19 @@ class YieldingLaw(StoryLaw):
     def yield_drift(self, n_stories: int) -> np.ndarray:
         """``[d]`` the parameter ``yield_displacement`` of each story, m."""
         return per_story(self.params.yield_displacement, n_stories, "story_law.yield_displacement")
+
+    def hysteretic_bound(self, n_stories: int) -> np.ndarray:
+        """``[d]`` the largest magnitude (m) of the hysteretic part ``z`` of ``F = k [alpha v
+        + (1 - alpha) z]``: the yield drift."""
+        return self.yield_drift(n_stories)
+
+    def strength_lost_drift(self, n_stories: int) -> np.ndarray:
+        """``[d]`` where ``alpha < 0``, the drift ``z_max (1 - 1 / alpha)`` (m) past which
+        ``alpha v + (1 - alpha) z`` cannot stay of the drift's sign whatever the history;
+        ``inf`` elsewhere."""
+        alpha = per_story(self.params.alpha, n_stories, "story_law.alpha")
+        softening = alpha < 0.0
+        lost = np.full(n_stories, np.inf)
+        bound = self.hysteretic_bound(n_stories)
+        lost[softening] = bound[softening] * (1.0 - 1.0 / alpha[softening])
+        return lost

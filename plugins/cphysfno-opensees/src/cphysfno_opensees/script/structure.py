@@ -151,7 +151,8 @@ class OpenSeesModelParams(OpenSeesParams):
             raise ValueError("damping_region: only with Rayleigh damping (modal acts on all)")
         names = [r.name for r in self.responses]
         clashes = sorted(
-            {n for n in names if names.count(n) > 1} | ({*names} & {edp.ACCELERATION_EXTRA})
+            {n for n in names if names.count(n) > 1}
+            | ({*names} & {edp.ACCELERATION_EXTRA, "displacement"})
         )
         if clashes:
             raise ValueError(f"responses: the names {', '.join(clashes)} are taken")
