@@ -63,3 +63,18 @@ def test_nothing_is_chosen_where_one_form_was_trained():
     models = _models()
     del models["c-physfno-els-residual"]
     assert against_physics.chosen_forms(models) == {}
+
+
+def test_a_physics_input_worse_than_zero_is_named_in_the_report():
+    from cphysfno_core.reporting.report import _physics_past_zero
+
+    models = {
+        "physics-stick": {"rel_l2": [1.09, 0.71]},
+        "physics-relaxed": {"rel_l2": [0.35, 0.37]},
+        "c-physfno-stick": {"rel_l2": [1.2, 0.4]},  # trained: not a physics input
+    }
+    lines = _physics_past_zero(models, ["floor-2", "roof"])
+    assert len([line for line in lines if line]) == 1
+    assert "`physics-stick` is farther from the simulation than predicting zero" in lines[1]
+    assert "floor-2 (1.09)" in lines[1] and "roof" not in lines[1]
+    assert _physics_past_zero({"physics-els": {"rel_l2": [0.5]}}, ["roof"]) == []

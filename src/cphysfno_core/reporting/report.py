@@ -73,6 +73,26 @@ def _record_by_record(models: dict[str, dict], names: list[str], truth: np.ndarr
     return lines + _markdown_table(rows, names, "record_rel_l2", 4, None)
 
 
+def _physics_past_zero(models: dict[str, dict], names: list[str]) -> list[str]:
+    """A warning for each physics input farther from the test records than predicting zero
+    at some output (relative L2 at or above 1): a composite on it starts from a response
+    worse than none there."""
+    lines = []
+    for label, row in models.items():
+        if not ModelLabel.parse(label).is_physics:
+            continue
+        far = [(n, e) for n, e in zip(names, row["rel_l2"], strict=True) if e >= 1.0]
+        if far:
+            where = ", ".join(f"{n} ({e:.2f})" for n, e in far)
+            lines.append(
+                f"- **`{label}` is farther from the simulation than predicting zero** at "
+                f"{where}: its z does not follow this structure on these records (see "
+                "*Physics inputs* for how it was fitted); a composite on it leans on its "
+                "operator there."
+            )
+    return [""] + lines if lines else []
+
+
 def _physics_section(out: Path) -> list[str]:
     """What each fitted preprocessor shows of itself (its ``summary.md`` and figures,
     written with the first saved model that uses it), if any does."""
@@ -283,6 +303,7 @@ def write_report(config: ExperimentConfig, evaluation: Evaluation, out: str | Pa
     lines += draws_section(config.uncertain_parameters(), evaluation.data, figure)
     lines += ["", "## Relative L2 error (test split)", ""]
     lines += _markdown_table(models, names, "rel_l2", 4, paper)
+    lines += _physics_past_zero(models, names)
     lines += _record_by_record(models, names, evaluation.data.targets("test"))
     lines += ["", "## RMSE (m, test split)", ""]
     lines += _markdown_table(models, names, "rmse", 4, paper)
