@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import scipy.integrate
 import scipy.linalg
-from cphysfno_core import ConfigError, GroundMotions, RegistryError, create
+from cphysfno_core import ConfigError, CphysfnoError, GroundMotions, RegistryError, create
 from cphysfno_core.testing import check_structure
 
 from cphysfno_bouc_wen import BoucWenShearBuilding
@@ -278,3 +278,23 @@ def test_peak_drift_ratios_are_the_integrators_drifts_over_the_story_heights(str
     expected = np.abs(response.extras["story_drift"]).max(axis=1) / np.array(heights)
     np.testing.assert_allclose(demands.pid, expected, rtol=1e-12)
     assert structure.stories().lower == (None, 0, 1)
+
+
+def test_a_sharp_bouc_wen_corner_that_outruns_the_automatic_step_is_integrated_again():
+    """Exponent 20: h' changes by n |v'| / u_y per metre of h, far faster than the periods
+    say, and RK4 at the periods' step (2 a sample) diverges on a 10 m/s^2 pulse; the
+    records that diverge are integrated again with 4 and then 16 times more steps."""
+    from cphysfno_bouc_wen import shear_building
+
+    t = np.arange(0.0, 10.0, 0.01)
+    pulse = 10.0 * np.sin(2.0 * np.pi * 3.0 * t) * np.exp(-(((t - 3.0) / 2.0) ** 2))
+    motions = GroundMotions(np.stack([pulse, 0.01 * pulse]), 0.01)
+    law = {"name": "bouc-wen", "alpha": 0.05, "exponent": 20.0, "yield_displacement": 0.005}
+    spec = {"masses": (2e4, 2e4), "stiffnesses": (3e7, 3e7), "story_law": law}
+    automatic = create("structure", "shear-building", **spec)
+    assert shear_building.AUTOMATIC_RETRIES == (4, 4)
+    found = automatic.simulate(motions).displacement
+    fine = create("structure", "shear-building", **spec, substeps=128).simulate(motions)
+    np.testing.assert_allclose(found, fine.displacement, rtol=0, atol=1e-4 * np.abs(found).max())
+    with pytest.raises(CphysfnoError, match="raise substeps"):
+        create("structure", "shear-building", **spec, substeps=2).simulate(motions)

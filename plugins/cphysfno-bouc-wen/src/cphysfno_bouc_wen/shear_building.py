@@ -42,6 +42,10 @@ fraction of the story's largest drift: where a law turns a corner within a step,
 there is off by at most about half a step. The steps depend on the drift history only, so
 that the shears change continuously with the law's parameters."""
 
+AUTOMATIC_RETRIES = (4, 4)
+"""Where the automatic step diverges on a record, it is integrated again with this many
+times more steps, twice (16 times in all), before the integration is said to diverge."""
+
 MAX_STEP_ANGLE = 0.45
 """Largest ``omega_max h`` (rad) of an automatically chosen Runge-Kutta step ``h``: the
 relative L2 error stays near 1e-4 (2e-4 to 3e-4 where the stories yield)."""
@@ -308,26 +312,20 @@ class ShearBuilding(Structure):
     def _integrate(
         self, motions: GroundMotions, basis: np.ndarray, substeps: int | None
     ) -> Responses:
-        if substeps is None:
+        automatic = substeps is None
+        if automatic:
             omega_max = 2.0 * np.pi / self.periods()[-1]
             substeps = max(1, math.ceil(omega_max * motions.dt / MAX_STEP_ANGLE))
-        model = self._bouc_wen_model
-        if model is not None:
-            precision = np.float32 if self.params.precision == "float32" else np.float64
-            reduced: ReducedModel = reduce(model, basis)
-            displacement, drift, shear, finite = integrate_rk4(
-                reduced, motions.acceleration, motions.dt, substeps, precision
-            )
-        else:
-            law = self.story_law
-            displacement, drift, shear, finite = integrate_chain(
-                self._chain(basis),
-                law.functions(),
-                law.n_states,
-                motions.acceleration,
-                motions.dt,
-                substeps,
-            )
+        displacement, drift, shear, finite = self._kernel(motions, basis, substeps)
+        for factor in AUTOMATIC_RETRIES if automatic and not self.softens else ():
+            if finite.all():
+                break
+            # a stiff hysteresis (a sharp Bouc-Wen corner) can outrun the periods' step
+            rows = np.flatnonzero(~finite)
+            substeps *= factor
+            again = self._kernel(motions[rows], basis, substeps)
+            for values, redone in zip((displacement, drift, shear, finite), again, strict=True):
+                values[rows] = redone
         extras = {"story_drift": drift, "story_shear": shear}
         if not finite.all() and not self.softens:
             raise CphysfnoError(
@@ -346,6 +344,26 @@ class ShearBuilding(Structure):
         for values in (displacement, *extras.values()):
             values[after] = np.nan
         return Responses(displacement, motions.dt, extras, collapsed=after[:, -1])
+
+    def _kernel(
+        self, motions: GroundMotions, basis: np.ndarray, substeps: int
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(displacement, story drift, story shear, [n] finite)`` of the compiled
+        Runge-Kutta integration with ``substeps`` steps per sample."""
+        model = self._bouc_wen_model
+        if model is not None:
+            precision = np.float32 if self.params.precision == "float32" else np.float64
+            reduced: ReducedModel = reduce(model, basis)
+            return integrate_rk4(reduced, motions.acceleration, motions.dt, substeps, precision)
+        law = self.story_law
+        return integrate_chain(
+            self._chain(basis),
+            law.functions(),
+            law.n_states,
+            motions.acceleration,
+            motions.dt,
+            substeps,
+        )
 
     @property
     def softens(self) -> bool:
