@@ -56,16 +56,16 @@ def write_demand_sample(
     model, structure = trained.model, trained.structure
     surrogate_pfa_source(model, trained.label)  # warns where PFA is differentiated
     edp.require_heights(edp.stories_of(structure), "a pelicun demand sample")
-    params = None
     if motions_file is not None:
         motions = read_motions(motions_file)
         collapsed = stopped = np.zeros(motions.n_records, dtype=bool)
         space = modelling_uncertainty(model, trained.config)
+        drawn = None
         if params_file is not None:
-            params = read_parameters(params_file)
+            drawn = read_parameters(params_file)
         elif space is not None:
-            params = space.columns(space.draw(motions.n_records, seed))
-        drawn = params
+            drawn = space.columns(space.draw(motions.n_records, seed))
+        model_takes_draws = drawn is not None
     else:
         data = load_dataset(run_file(run, DATASET))
         flagged, unfinished = data.collapsed_rows("test"), data.non_converged_rows("test")
@@ -74,12 +74,12 @@ def write_demand_sample(
         collapsed = np.isin(everything, flagged)
         stopped = np.isin(everything, unfinished)
         drawn = data.draws_of(everything)
-        params = drawn if model.parameters is not None else None
+        model_takes_draws = model.parameters is not None
     standing = np.flatnonzero(~collapsed & ~stopped)
     if drawn:  # each standing record's parameters: for its heights, and the model's input
         drawn = {name: v[standing] for name, v in per_record(drawn, motions.n_records).items()}
     heights = RecordStories(structure).heights(drawn, len(standing))
-    params = drawn if params is not None else None
+    params = drawn if model_takes_draws else None
     responses = predict_skipping_failures(model, motions[standing], params)[0]
     predicted = edp.compute(responses, structure, motions[standing], heights=heights)
     demands = predicted.map(lambda values: _spread(values, standing, motions.n_records))
