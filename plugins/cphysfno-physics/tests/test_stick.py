@@ -207,6 +207,33 @@ def test_a_softening_stick_that_collapses_says_so_and_gives_no_z_there():
     np.testing.assert_allclose(z[1], truth.displacement[1], rtol=1e-3, atol=1e-6)
 
 
+def test_a_law_chosen_by_its_dynamic_response_is_the_buildings_own(tmp_path):
+    """The stick of a Bouc-Wen building, its law chosen by the probe pulses: Bouc-Wen is
+    recovered, and its stick is the building under the probes; the errors are kept with
+    the calibration and shown in its summary."""
+    structure = building(BOUC_WEN)
+    stick = Stick(**FAST, law_choice="dynamic").fit(structure)
+    calibration = stick.calibration_
+    errors = calibration.dynamic_errors
+    assert calibration.law == "bouc-wen" and set(errors) == set(calibration.fits)
+    assert errors["bouc-wen"] < 1e-2 < min(e for law, e in errors.items() if law != "bouc-wen")
+    again = StickCalibration.from_dict(json.loads(json.dumps(calibration.to_dict())))
+    assert again.dynamic_errors == errors
+    stick.write_artifacts(tmp_path)
+    assert "chosen by its response to three probe pulses" in (tmp_path / "summary.md").read_text()
+    assert stick.refit_params()["law_choice"] == "pushover"
+
+
+def test_probe_pulses_drive_the_stick_to_the_drifts_asked():
+    from cphysfno_physics.stick_probes import probe_motions, roof_drift_ratio
+
+    calibration = Stick(**FAST).fit(building(BILINEAR)).calibration_
+    motions = probe_motions(calibration, (0.005, 0.01))
+    stick = create("structure", "shear-building", **calibration.shear_building())
+    reached = roof_drift_ratio(stick, motions, float(calibration.backbone.heights.sum()))
+    np.testing.assert_allclose(reached, [0.005, 0.01], rtol=1e-3)
+
+
 def test_a_calibration_is_held_within_each_laws_alpha_bounds():
     law = {"alpha": (-0.7, -0.05, 1.0), "yield_displacement": (0.01, 0.01, 0.01)}
     softening = LAW_SPACES["bilinear"].held_within_fit({"name": "bilinear", **law})

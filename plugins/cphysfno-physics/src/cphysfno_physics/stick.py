@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import warnings
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import Field
@@ -17,6 +18,7 @@ from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 from .fitted import check_fitted
 from .stick_calibration import LAW_SPACES, StickCalibration, calibrate
 from .stick_figures import write_stick_artifacts
+from .stick_probes import dynamic_errors
 
 DriftRatio = Annotated[float, Field(gt=0.0, le=0.2)]
 
@@ -30,9 +32,12 @@ class Stick(PhysicsPreprocessor):
     ``cycle_amplitudes``. From the curves of its stories it builds a ``shear-building``
     (:func:`~cphysfno_physics.stick_calibration.calibrate`): the floor masses, the story
     heights, initial stiffnesses that give the structure's first period, the structure's
-    damping, and one story law for every story, chosen among ``laws`` and fitted story by
-    story to the monotonic and cyclic curves together (the monotonic one shows a story
-    that softens past the cycles' drifts). :meth:`transform` simulates that building on its
+    damping, and one story law for every story, each of ``laws`` fitted story by story to
+    the monotonic and cyclic curves together (the monotonic one shows a story that softens
+    past the cycles' drifts) and one chosen by ``law_choice``: by default the law whose
+    stick is closest to the structure itself under three resonant probe pulses
+    (:mod:`~cphysfno_physics.stick_probes`; the structure is analysed on them once), else
+    the one that fits the pushovers best. :meth:`transform` simulates that building on its
     compiled kernel; the structure is not called again.
 
     The stick has one degree of freedom a floor: it cannot follow torsion, strong higher
@@ -73,6 +78,14 @@ class Stick(PhysicsPreprocessor):
             description="lateral load on each floor, bottom up (None: the first mode times "
             "the floor masses)",
         )
+        law_choice: Literal["pushover", "dynamic"] = Field(
+            "dynamic",
+            description="how the law is chosen among laws: 'pushover', the lowest "
+            "worst-story fit error on the pushovers; 'dynamic', the lowest relative L2 "
+            "of the stick against the structure itself under three resonant probe pulses "
+            "that drive the pushover-chosen stick to the three largest cycle amplitudes "
+            "(the structure is analysed on them once)",
+        )
         tolerance: float = Field(
             0.1,
             gt=0.0,
@@ -98,7 +111,14 @@ class Stick(PhysicsPreprocessor):
         cyclic = structure.story_pushover(
             cyclic_protocol(p.cycle_amplitudes, p.points_per_cycle), backbone.pattern
         )
-        return self._built(calibrate(structure, backbone, cyclic, p.laws, p.tolerance), floors)
+        calibration = calibrate(structure, backbone, cyclic, p.laws, p.tolerance)
+        if p.law_choice == "dynamic" and len(calibration.fits) > 1:
+            amplitudes = sorted(p.cycle_amplitudes)[-3:]
+            errors = dynamic_errors(structure, calibration, floors, amplitudes)
+            if errors is not None:
+                chosen = min(errors, key=errors.__getitem__)
+                calibration = dataclasses.replace(calibration, law=chosen, dynamic_errors=errors)
+        return self._built(calibration, floors)
 
     def restore(self, structure: Structure, directory: Path) -> Stick:
         """The stick of the calibration :meth:`write_artifacts` saved in ``directory``
@@ -129,7 +149,8 @@ class Stick(PhysicsPreprocessor):
         """These parameters with ``laws`` the law this stick chose: every member of a
         family gets the same law."""
         check_fitted(self, "stick_")
-        return {**self.get_params(), "laws": [self.stick_.get_params()["story_law"]["name"]]}
+        chosen = self.stick_.get_params()["story_law"]["name"]
+        return {**self.get_params(), "laws": [chosen], "law_choice": "pushover"}
 
     def calibrated(self, structure: Structure, calibration: dict[str, Any]) -> Stick:
         """The stick of ``calibration`` (as :meth:`calibration` gives it) for

@@ -168,6 +168,9 @@ class StickCalibration:
             classical damping.
         law: the chosen law's name.
         fits: every candidate law's fit, by name.
+        dynamic_errors: law name -> the relative L2 of each law's stick against the
+            structure under the probe pulses, where the law was chosen by them
+            (``law_choice = "dynamic"``), else None.
     """
 
     backbone: StoryPushover
@@ -180,6 +183,7 @@ class StickCalibration:
     rayleigh_modes: tuple[int, int] | None
     law: str
     fits: dict[str, LawFit]
+    dynamic_errors: dict[str, float] | None = None
 
     def story_law(self) -> dict[str, Any]:
         """The chosen law as a ``shear-building``'s ``story_law``: its name and one value
@@ -214,6 +218,7 @@ class StickCalibration:
                 name: {"parameters": fit.parameters, "errors": fit.errors}
                 for name, fit in self.fits.items()
             },
+            "dynamic_errors": self.dynamic_errors,
         }
 
     @classmethod
@@ -234,6 +239,7 @@ class StickCalibration:
                 name: LawFit(fit["parameters"], fit["errors"])
                 for name, fit in document["fits"].items()
             },
+            dynamic_errors=document.get("dynamic_errors"),
         )
 
 

@@ -52,6 +52,13 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
             f"{calibration.rayleigh_modes[1]}."
         ),
     ]
+    if calibration.dynamic_errors is not None:
+        errors = ", ".join(f"{name} {e:.3f}" for name, e in calibration.dynamic_errors.items())
+        lines += [
+            "",
+            "The law was chosen by its response to three probe pulses at the structure's "
+            f"first period (relative L2 of each law's stick against the structure: {errors}).",
+        ]
     if chosen.worst > FIT_WARNING:
         lines += [
             "",

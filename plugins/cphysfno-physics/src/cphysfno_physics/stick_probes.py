@@ -1,0 +1,111 @@
+"""The stick's law chosen by its dynamic response: probe pulses that drive the structure
+itself through the drifts of the cyclic pushover, and each candidate law's stick against
+the structure's response to them.
+
+A law's fit to the pushovers is static: two laws that fit the story curves about as well
+can part once the structure vibrates through them (on the two-story IMK frame the
+`pinching` law fits the pushovers best and is twice as far from the frame under records
+as a softening Bouc-Wen law). The probes are resonant pulses at the structure's first
+period, ``sin(2 pi t / T1)`` under a Gaussian envelope (centre ``4 T1``, width ``1.5 T1``,
+``12 T1`` long), each scaled so that the stick of the pushover-chosen law reaches one
+roof drift ratio; the structure is analysed once on them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from collections.abc import Sequence
+
+import numpy as np
+
+from cphysfno_core import CphysfnoWarning, GroundMotions, create
+from cphysfno_core.plugin import Structure
+
+from .stick_calibration import StickCalibration
+
+PROBE_SAMPLES_PER_PERIOD = 50
+"""Samples of a probe per first period (and no step longer than 0.01 s)."""
+
+SCALE_HALVINGS = 30
+"""Bisection steps on each probe's scale (in its logarithm)."""
+
+
+def probe_shape(period: float) -> GroundMotions:
+    """``[1, T]`` the unit probe pulse (m/s^2 per unit scale) of a structure of first
+    ``period`` (s)."""
+    dt = min(0.01, period / PROBE_SAMPLES_PER_PERIOD)
+    t = np.arange(int(round(12.0 * period / dt)) + 1) * dt
+    shape = np.sin(2.0 * np.pi * t / period) * np.exp(-(((t - 4.0 * period) / (1.5 * period)) ** 2))
+    return GroundMotions(shape[None], dt)
+
+
+def roof_drift_ratio(stick, motions: GroundMotions, height: float) -> np.ndarray:
+    """``[n]`` the stick's peak roof displacement over the building's ``height`` (m); inf
+    for a record that collapses it."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CphysfnoWarning)
+        responses = stick.simulate(motions)
+    peak = np.abs(responses.displacement[:, :, -1]).max(axis=1) / height
+    return np.where(np.isfinite(peak), peak, np.inf)
+
+
+def probe_motions(calibration: StickCalibration, amplitudes: Sequence[float]) -> GroundMotions:
+    """``[len(amplitudes), T]`` the probe pulse scaled, for each roof drift ratio of
+    ``amplitudes``, so that the stick of ``calibration`` reaches it (bisection in the
+    scale's logarithm between 1e-3 and 1e3 m/s^2)."""
+    stick = create("structure", "shear-building", **calibration.shear_building())
+    unit = probe_shape(float(calibration.periods[0]))
+    height = float(calibration.backbone.heights.sum())
+    scales = []
+    for target in amplitudes:
+        low, high = np.log(1e-3), np.log(1e3)
+        for _ in range(SCALE_HALVINGS):
+            middle = 0.5 * (low + high)
+            scaled = GroundMotions(np.exp(middle) * unit.acceleration, unit.dt)
+            reached = roof_drift_ratio(stick, scaled, height)[0]
+            low, high = (middle, high) if reached < target else (low, middle)
+        scales.append(np.exp(0.5 * (low + high)))
+    return GroundMotions(np.asarray(scales)[:, None] * unit.acceleration, unit.dt)
+
+
+def dynamic_errors(
+    structure: Structure,
+    calibration: StickCalibration,
+    floors: np.ndarray,
+    amplitudes: Sequence[float],
+) -> dict[str, float] | None:
+    """Law name -> the relative L2 (over probes, samples and outputs) of the stick of each
+    fitted law against the structure under the probes of :func:`probe_motions`; None
+    where the structure collapses or fails on every probe (a
+    :class:`~cphysfno_core.CphysfnoWarning` says so).
+
+    Args:
+        structure: the structure the stick was fitted to.
+        calibration: its calibration, every candidate law fitted.
+        floors: ``[n_outputs]`` the stick floor of each output.
+        amplitudes: the roof drift ratios the probes drive the pushover-chosen stick to.
+    """
+    motions = probe_motions(calibration, amplitudes)
+    truth = structure.simulate(motions)
+    kept = ~truth.collapsed & np.isfinite(truth.displacement).all(axis=(1, 2))
+    if not kept.any():
+        warnings.warn(
+            f"stick of structure '{structure.name}': the structure collapsed or failed on "
+            "every probe pulse; the law stays the one the pushovers chose",
+            CphysfnoWarning,
+            stacklevel=3,
+        )
+        return None
+    probes = motions[np.flatnonzero(kept)]
+    u = truth.displacement[kept]
+    errors = {}
+    for law in calibration.fits:
+        member = dataclasses.replace(calibration, law=law)
+        stick = create("structure", "shear-building", **member.shear_building())
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", CphysfnoWarning)
+            z = stick.simulate(probes).displacement[:, :, floors]
+        error = float(np.sqrt(np.sum((z - u) ** 2) / np.sum(u**2)))
+        errors[law] = error if np.isfinite(error) else float("inf")
+    return errors
