@@ -303,6 +303,7 @@ def evaluate(
         results[label]["best_epoch"] = model.history_.best_epoch
         results[label]["train_seconds"] = model.history_.seconds
         results[label]["device"] = model.history_.device
+    share = metrics.largest_record_share(test_u)
     worse = against_physics.shortfalls(results, list(data.output_names))
     for line in against_physics.describe_shortfalls(worse):
         show_progress(f"warning: {line}")
@@ -320,7 +321,7 @@ def evaluate(
         "sizes": {**data.sizes, "train": calibration_records["training"]},
         "left_out": data.left_out(),
         "response_rms": np.sqrt(np.mean(test_u**2, axis=(0, 1))).tolist(),
-        "largest_record_share": metrics.largest_record_share(test_u),
+        "largest_record_share": share,
         "epochs": config.training.epochs,
         "precision": config.training.precision,
         "worse_than_physics": worse,
@@ -340,6 +341,7 @@ def evaluate(
         scorer.predicted,
         baseline_rows,
         beaten,
+        share,
     )
 
 

@@ -57,6 +57,13 @@ PREDICT_CHUNK = 8
 record at the paper's sizes) stay small and are reused from chunk to chunk."""
 
 
+def _kinds_stacked(*kinds: np.ndarray | None) -> np.ndarray:
+    """``[n, T, channels]`` the response kinds given (displacements, accelerations, named
+    responses; None where a model does not learn one) side by side, in the order of the
+    operator's output channels."""
+    return np.concatenate([kind for kind in kinds if kind is not None], axis=2)
+
+
 def _rows_of(array: np.ndarray | None, rows: slice | np.ndarray) -> np.ndarray | None:
     return None if array is None else array[rows]
 
@@ -275,8 +282,7 @@ class CompositeModel:
         followed by the absolute accelerations with ``formulation.accelerations`` and the
         named responses ``[n, T, k]`` with ``formulation.responses``."""
         displacement = u - z if self.formulation.residual else u
-        parts = [displacement, acceleration, responses]
-        return np.concatenate([part for part in parts if part is not None], axis=2)
+        return _kinds_stacked(displacement, acceleration, responses)
 
     def _responses(
         self,
@@ -311,8 +317,8 @@ class CompositeModel:
         self, motions: GroundMotions, responses: Mapping[str, np.ndarray] | None, what: str
     ) -> np.ndarray | None:
         """``[n, T, k]`` the named responses of a model that learns them, in the order of
-        :attr:`response_names` (refused when missing, of other names than the training
-        records', or given to a model that does not learn them), else None."""
+        :attr:`response_names` (refused when missing, of other names than those, or given
+        to a model that does not learn them), else None."""
         if not self.formulation.responses:
             if responses:
                 raise ConfigError(
@@ -325,7 +331,7 @@ class CompositeModel:
                 f"formulation.responses: give the {what} records' named responses (name -> "
                 "[n, T, 1] in its unit, the structure's [structure] responses channels)"
             )
-        names = self.response_names or tuple(responses)
+        names = self.response_names
         if set(responses) != set(names):
             raise ConfigError(
                 f"{what} named responses {sorted(responses)} are not those the model learns: "
@@ -343,7 +349,6 @@ class CompositeModel:
             if not np.isfinite(values).all():
                 raise InputError(f"{what} named response '{name}' holds NaN or Inf")
             found.append(values)
-        self.response_names_ = names
         return np.concatenate(found, axis=2)
 
     @property
@@ -432,7 +437,7 @@ class CompositeModel:
         val_u, validation_acceleration = self._responses(
             val_motions, val_u, validation_acceleration, "validation"
         )
-        self.response_names_ = ()
+        self.response_names_ = tuple(responses or ()) if self.formulation.responses else ()
         named = self._named_responses(motions, responses, "training")
         validation_named = self._named_responses(val_motions, validation_responses, "validation")
         overrides = {**training, **({"epochs": epochs} if epochs is not None else {})}
@@ -477,8 +482,7 @@ class CompositeModel:
             groups=self._groups(u.shape[2]),
         )
         val_hat = self._run_operator(x_val, validation_z)
-        truths = (val_u, validation_acceleration, validation_named)
-        val_truth = np.concatenate([part for part in truths if part is not None], axis=2)
+        val_truth = _kinds_stacked(val_u, validation_acceleration, validation_named)
         self.validation_rmse_ = np.sqrt(np.mean((val_hat - val_truth) ** 2, axis=(0, 1)))
         if self.refiner is not None:
             calibration = (

@@ -117,13 +117,13 @@ def _check_channels(model: Any, directory: Path) -> None:
     accelerations (``formulation.accelerations``) and its named responses."""
     formulation, names = model.formulation, model.response_names
     kinds = 2 if formulation.accelerations else 1
-    rest = model.operator_.out_channels - len(names)
+    displacements = model._displacements
     outputs = None if model.structure is None else model.structure.n_outputs
     if (
         bool(names) != formulation.responses
-        or rest <= 0
-        or rest % kinds
-        or (outputs is not None and rest != kinds * outputs)
+        or displacements <= 0
+        or kinds * displacements + len(names) != model.operator_.out_channels
+        or (outputs is not None and displacements != outputs)
     ):
         raise DatasetError(
             f"{directory}: the operator's {model.operator_.out_channels} output channels are "

@@ -24,6 +24,9 @@ class Evaluation:
         predicted_edps: the EDPs of each row of ``metrics`` (models and physics inputs) and
             of each baseline, by label, on the same records.
         baselines: the baselines' rows (:meth:`EDPScorer.baselines`), by label.
+        largest_record_share: the share of the test response its largest record holds
+            (:func:`~cphysfno_core.reporting.metrics.largest_record_share`), NaN where
+            not computed.
         baseline_beats: where a baseline beats every trained model
             (:func:`~cphysfno_core.reporting.baselines.beaten_surrogates`).
     """
@@ -37,6 +40,7 @@ class Evaluation:
     predicted_edps: dict[str, edp.EDPs] = field(default_factory=dict)
     baselines: dict[str, dict[str, Any]] = field(default_factory=dict)
     baseline_beats: list[dict] = field(default_factory=list)
+    largest_record_share: float = float("nan")
 
 
 COVERAGE_LEVELS = (0.68, 0.90)

@@ -338,9 +338,8 @@ class ShearBuilding(Structure):
         if not self.softens:
             return Responses(displacement, motions.dt, extras)
         # a story past the drift where its strength is gone runs away: a collapse, NaN after
-        gone = ~np.isfinite(drift).all(axis=2) | (
-            np.abs(drift) > self.story_law.strength_lost_drift(self.n_stories)
-        ).any(axis=2)
+        past = np.abs(drift) > self.strength_lost_drift
+        gone = ~np.isfinite(drift).all(axis=2) | past.any(axis=2)
         after = np.logical_or.accumulate(gone, axis=1)
         for values in (displacement, *extras.values()):
             values[after] = np.nan
@@ -366,12 +365,19 @@ class ShearBuilding(Structure):
             substeps,
         )
 
+    @cached_property
+    def strength_lost_drift(self) -> np.ndarray:
+        """``[d]`` the drift (m) past which each story has no strength left (its law's
+        :meth:`~cphysfno_core.plugin.StoryLaw.strength_lost_drift`; inf where it keeps
+        some)."""
+        return self.story_law.strength_lost_drift(self.n_stories)
+
     @property
     def softens(self) -> bool:
         """Whether a story's strength may be lost (a story law that softens past yield,
-        ``alpha < 0``): a record that drives it past
-        :meth:`~cphysfno_core.plugin.StoryLaw.strength_lost_drift` collapses."""
-        return bool(np.isfinite(self.story_law.strength_lost_drift(self.n_stories)).any())
+        ``alpha < 0``): a record that drives it past :attr:`strength_lost_drift`
+        collapses."""
+        return bool(np.isfinite(self.strength_lost_drift).any())
 
     def _simulate_gauss(self, motions: GroundMotions) -> Responses:
         model = self._bouc_wen_model
