@@ -131,9 +131,68 @@ class LongFirstPeriod(ShearBuilding):
 def test_stiffness_is_scaled_to_the_first_period_and_the_others_warn():
     structure = LongFirstPeriod(**building(BILINEAR).get_params())
     with pytest.warns(CphysfnoWarning, match=r"modes \[2, 3\] differ by more than 10%"):
-        calibration = Stick(**FAST, laws=("bilinear",)).fit(structure).calibration_
+        stick = Stick(**FAST, laws=("bilinear",), coupling="none").fit(structure)
+    calibration = stick.calibration_
+    assert calibration.coupling is None
     assert calibration.stiffness_scale == pytest.approx(1.0 / 1.44, rel=1e-9)
     assert calibration.stick_periods[0] == pytest.approx(structure.periods(1)[0], rel=1e-9)
+
+
+COUPLING = ((1.2e7, -0.8e7, 0.2e7), (-0.8e7, 1.4e7, -0.6e7), (0.2e7, -0.6e7, 0.5e7))
+"""A positive definite stiffness (N/m) between the floors beyond the stories next to each
+other, as a frame's bending gives."""
+
+
+@pytest.fixture(scope="module")
+def frame_like() -> ShearBuilding:
+    """A bilinear building whose floors are also coupled elastically: a frame's flexure."""
+    return building(BILINEAR, coupling=COUPLING, rayleigh_modes=(1, 2))
+
+
+def test_a_coupled_stick_has_the_structures_floor_stiffness_and_periods(frame_like):
+    stick = Stick(**FAST, laws=("bilinear",)).fit(frame_like)
+    calibration = stick.calibration_
+    own = frame_like.linear_system().stiffness
+    assert np.allclose(stick.stick_.linear_system().stiffness, own, rtol=1e-9, atol=1e-3)
+    assert np.allclose(calibration.stick_periods, frame_like.periods(), rtol=1e-9)
+    # its pushover is still the structure's: springs and coupling together
+    for curve in (calibration.backbone, calibration.cyclic):
+        shear = calibration.stick_shears(curve)
+        assert np.abs(shear - curve.story_shear).max() < 1e-2 * np.abs(curve.story_shear).max()
+    again = StickCalibration.from_dict(json.loads(json.dumps(calibration.to_dict())))
+    assert np.array_equal(again.coupling, calibration.coupling)
+
+
+def test_a_coupled_stick_is_a_frame_like_building_and_springs_alone_are_not(frame_like, motions):
+    motions = GroundMotions(1.6 * motions.acceleration, motions.dt)
+    u = frame_like.simulate(motions).displacement
+    assert np.abs(np.diff(u, axis=2, prepend=0.0)).max() > 0.012  # past yield
+    coupled = Stick(**FAST, laws=("bilinear",)).fit(frame_like).transform(motions)
+    alone = Stick(**FAST, laws=("bilinear",), coupling="none").fit(frame_like).transform(motions)
+    # the springs take the pushover's slopes and the coupling the rest of the floor
+    # stiffness: a bilinear spring plus a linear share is again bilinear, so the stick is
+    # the building itself; springs alone miss its higher modes by 5-12 %
+    assert relative_l2(coupled, u).max() < 1e-6
+    assert relative_l2(alone, u).min() > 0.04
+
+
+def test_both_forms_are_fitted_and_the_probes_choose_the_coupled_one(frame_like):
+    calibration = Stick(**FAST, laws=("bilinear", "bouc-wen")).fit(frame_like).calibration_
+    assert calibration.coupling is not None
+    assert calibration.law == "bilinear"
+    errors = calibration.dynamic_errors
+    assert set(errors) == {
+        "bilinear",
+        "bouc-wen",
+        "bilinear, springs alone",
+        "bouc-wen, springs alone",
+    }
+    assert errors["bilinear"] < 1e-6 < 0.04 < errors["bilinear, springs alone"]
+
+
+def test_the_stick_of_a_plain_shear_building_has_no_coupling(bilinear_stick):
+    assert bilinear_stick.calibration_.coupling is None
+    assert bilinear_stick.stick_.get_params()["coupling"] is None
 
 
 class PiersFromTheGround(ShearBuilding):

@@ -44,9 +44,11 @@ from .intensity import (
 from .linear_system import LinearSystem, Rayleigh
 from .pushover import (
     StoryPushover,
+    coupling_story_shear,
     cyclic_protocol,
     first_mode_pattern,
     floor_masses,
+    floor_stiffness,
     lateral_pattern,
     monotonic_protocol,
 )
@@ -81,9 +83,11 @@ __all__ = [
     "check_finite",
     "check_main_guard",
     "check_time_step",
+    "coupling_story_shear",
     "cyclic_protocol",
     "first_mode_pattern",
     "floor_masses",
+    "floor_stiffness",
     "oscillator_displacement",
     "lateral_pattern",
     "monotonic_protocol",

@@ -184,6 +184,29 @@ def floor_masses(system: LinearSystem, floors: Sequence[int]) -> np.ndarray:
     return shapes.T @ system.mass @ system.influence
 
 
+def floor_stiffness(system: LinearSystem, floors: Sequence[int]) -> np.ndarray:
+    """``[d, d]`` the stiffness of the structure at its floors, N/m: ``(L_f K^-1 L_f^T)^-1``,
+    the static condensation onto the floors' displacements (the other degrees of freedom
+    at least elastic energy, as :func:`floor_masses` takes them), symmetric.
+
+    Args:
+        system: the structure's linear system.
+        floors: ``[d]`` the output of each floor, in the rows of ``system.output_map``.
+    """
+    rows = system.output_map[list(floors)]
+    stiffness = np.linalg.inv(rows @ np.linalg.solve(system.stiffness, rows.T))
+    return 0.5 * (stiffness + stiffness.T)
+
+
+def coupling_story_shear(coupling: np.ndarray, drift: np.ndarray) -> np.ndarray:
+    """``[p, d]`` the story shears (N) a linear stiffness between the floors carries: the
+    floor forces ``K_c u`` (``coupling [d, d]`` in N/m, ``u`` the floors' displacements,
+    the running sum of the story ``drift [p, d]``, m) summed over each story's floors
+    above."""
+    forces = np.cumsum(np.asarray(drift, dtype=np.float64), axis=1) @ coupling
+    return np.cumsum(forces[:, ::-1], axis=1)[:, ::-1]
+
+
 def lateral_pattern(pattern: Sequence[float] | np.ndarray, n_floors: int) -> np.ndarray:
     """``[n_floors]`` a lateral load shape scaled to sum to 1.
 

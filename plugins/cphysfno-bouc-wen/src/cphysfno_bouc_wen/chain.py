@@ -1,11 +1,12 @@
 """A shear building with any story law, in the coordinates of a basis of floor shapes.
 
 With floor displacements ``u = Phi q`` (``Phi [d, r]``, mass-orthonormal) the equations
-``M u'' + C u' + A_f^T F(A_f u, s) = -M 1 a_g`` multiplied by ``Phi^T`` read
+``M u'' + C u' + K_c u + A_f^T F(A_f u, s) = -M 1 a_g`` multiplied by ``Phi^T`` read
 
-    q'' + C_r q' + B F(D q, s) = -p a_g,    s' = rate(D q, D q', s),
+    q'' + C_r q' + K_r q + B F(D q, s) = -p a_g,    s' = rate(D q, D q', s),
 
-with ``B = Phi^T A_f^T``, ``D = A_f Phi`` and ``p = Phi^T M 1``. With ``Phi`` the
+with ``K_r = Phi^T K_c Phi`` (the linear coupling beside the story springs),
+``B = Phi^T A_f^T``, ``D = A_f Phi`` and ``p = Phi^T M 1``. With ``Phi`` the
 (mass-normalised) elastic modes of the whole building this is the full model.
 """
 
@@ -26,6 +27,7 @@ class StoryChain(NamedTuple):
 
     Attributes:
         damping: ``[r, r]`` C_r, 1/s.
+        coupling: ``[r, r]`` K_r, 1/s^2.
         force_map: ``[r, d]`` B, from story shears (N) to ``q''``.
         drift: ``[d, r]`` D, from ``q`` to story drifts (m).
         participation: ``[r]`` p, sqrt(kg).
@@ -34,6 +36,7 @@ class StoryChain(NamedTuple):
     """
 
     damping: np.ndarray
+    coupling: np.ndarray
     force_map: np.ndarray
     drift: np.ndarray
     participation: np.ndarray
@@ -45,6 +48,7 @@ def project_chain(
     mass: np.ndarray,
     damping: np.ndarray,
     stiffness_matrix: np.ndarray,
+    coupling: np.ndarray,
     coefficients: np.ndarray,
     basis: np.ndarray,
 ) -> StoryChain:
@@ -56,7 +60,8 @@ def project_chain(
     Args:
         mass: ``[d]`` floor masses, kg.
         damping: ``[d, d]`` damping matrix, N s/m.
-        stiffness_matrix: ``[d, d]`` initial stiffness matrix, N/m.
+        stiffness_matrix: ``[d, d]`` initial stiffness matrix, N/m (coupling included).
+        coupling: ``[d, d]`` the linear stiffness beside the story springs, N/m.
         coefficients: ``[d, n_c]`` story law coefficients.
         basis: ``[d, r]`` floor displacement shapes, linearly independent.
     """
@@ -69,6 +74,7 @@ def project_chain(
     shapes = basis @ rotation
     return StoryChain(
         damping=shapes.T @ damping @ shapes,
+        coupling=shapes.T @ coupling @ shapes,
         force_map=shapes.T @ compat.T,
         drift=compat @ shapes,
         participation=shapes.T @ mass,

@@ -93,7 +93,9 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
     width = max(n_states, 1)
 
     @numba.njit(**FAST)
-    def rates(y, ag_now, damping, force_map, drift_map, part, coef, out, story_rate, shear):
+    def rates(
+        y, ag_now, damping, coupling, force_map, drift_map, part, coef, out, story_rate, shear
+    ):
         r, d = part.shape[0], drift_map.shape[0]
         for s in range(d):
             v = story_value(drift_map, y, s, 0)
@@ -107,7 +109,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
             out[j] = y[r + j]
             acc = -part[j] * ag_now
             for m in range(r):
-                acc -= damping[j, m] * y[r + m]
+                acc -= damping[j, m] * y[r + m] + coupling[j, m] * y[m]
             for s in range(d):
                 acc -= force_map[j, s] * shear[s]
             out[r + j] = acc
@@ -125,6 +127,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
     def kernel(
         ag,
         damping,
+        coupling,
         force_map,
         drift_map,
         part,
@@ -167,6 +170,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
                             stage,
                             a_start + slope * fraction,
                             damping,
+                            coupling,
                             force_map,
                             drift_map,
                             part,

@@ -10,7 +10,8 @@ from .model import compatibility_matrix
 
 
 class StoryLawRestoringForce:
-    """Restoring force ``f(u, s) = A_f^T F(A_f u, s)`` with the story law's state ``s``.
+    """Restoring force ``f(u, s) = A_f^T F(A_f u, s) + K_c u`` with the story law's state
+    ``s``.
 
     Satisfies :class:`cphysfno_core.plugin.RestoringForce`: the building obeys
     ``M u'' + C u' + f(u, s) = -M 1 a_g`` and ``s' = rate(A_f u, A_f u', s)``. The state of
@@ -19,15 +20,20 @@ class StoryLawRestoringForce:
     Args:
         law: the story law.
         coefficients: ``[d, n_c]`` its coefficients for each story.
+        coupling: ``[d, d]`` the linear stiffness ``K_c`` beside the story springs, N/m
+            (None: none).
     """
 
-    def __init__(self, law: StoryLaw, coefficients: np.ndarray) -> None:
+    def __init__(
+        self, law: StoryLaw, coefficients: np.ndarray, coupling: np.ndarray | None = None
+    ) -> None:
         self._coefficients = np.ascontiguousarray(coefficients, dtype=np.float64)
         self._d = self._coefficients.shape[0]
         self._width = max(law.n_states, 1)
         self._law_states = law.n_states
         self._evaluate = law_evaluator(law.functions(), law.n_states)
         self._compat = compatibility_matrix(self._d)
+        self._coupling = np.zeros((self._d, self._d)) if coupling is None else coupling
         self.n_states = self._d * law.n_states
 
     def initial_state(self, n_records: int) -> np.ndarray:
@@ -49,7 +55,7 @@ class StoryLawRestoringForce:
         shear, _ = self._evaluate(
             self._coefficients, drift, np.zeros_like(drift), self._states(state)
         )
-        return shear @ self._compat
+        return shear @ self._compat + u @ self._coupling
 
     def state_rate(self, u: np.ndarray, velocity: np.ndarray, state: np.ndarray) -> np.ndarray:
         """``[n, d * n_states]`` rate of the law's state from displacements (m) and

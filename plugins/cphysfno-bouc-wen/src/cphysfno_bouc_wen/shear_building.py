@@ -20,7 +20,12 @@ from cphysfno_core.plugin import (
     per_story,
     validate_params,
 )
-from cphysfno_core.signals import check_time_step, first_mode_pattern, lateral_pattern
+from cphysfno_core.signals import (
+    check_time_step,
+    coupling_story_shear,
+    first_mode_pattern,
+    lateral_pattern,
+)
 from pydantic import Field, field_validator, model_validator
 
 from .chain import StoryChain, project_chain
@@ -71,6 +76,12 @@ class ShearBuildingParams(Params):
         "Rayleigh damping gives damping_ratio; None: classical damping, the ratio in every mode",
     )
     story_heights: PerStory = Field(3.0, description="story heights, m (for drift ratios)")
+    coupling: tuple[tuple[float, ...], ...] | None = Field(
+        None,
+        description="[d, d] symmetric linear stiffness (N/m) between the floors, added to "
+        "the story springs' forces: what a frame's flexure adds to its stories' shear "
+        "springs (the stick's); None: none",
+    )
     substeps: int | None = Field(
         None,
         ge=1,
@@ -115,6 +126,13 @@ class ShearBuildingParams(Params):
         if len(set(lengths.values())) > 1:
             found = ", ".join(f"{field} {n}" for field, n in lengths.items())
             raise ValueError(f"the number of stories differs between fields: {found}")
+        if self.coupling is not None:
+            d = next(iter(lengths.values()))
+            coupling = np.array(self.coupling, dtype=np.float64)
+            if coupling.shape != (d, d) or not np.isfinite(coupling).all():
+                raise ValueError(f"coupling must be a finite [{d}, {d}] matrix of N/m")
+            if not np.allclose(coupling, coupling.T, rtol=1e-9, atol=1e-9 * np.abs(coupling).max()):
+                raise ValueError("coupling must be symmetric")
         return self
 
 
@@ -124,7 +142,10 @@ class ShearBuilding(Structure):
     ``M u'' + C u' + A_f^T F(v, s) = -M 1 a_g`` with floor displacements ``u`` relative to
     the ground, story drifts ``v = A_f u`` (``v_i = u_i - u_(i-1)``, ``u_0 = 0``) and the
     story shears ``F`` of the law (``story_law``, any registered law) with its state ``s``.
-    ``C`` is classical (the damping ratio in every elastic mode) or Rayleigh at two modes.
+    A ``coupling`` matrix ``K_c`` adds the linear floor forces ``K_c u`` (a frame's flexure
+    that story springs do not hold); the elastic stiffness is then ``A_f^T diag(k) A_f +
+    K_c``. ``C`` is classical (the damping ratio in every elastic mode) or Rayleigh at two
+    modes, on that elastic stiffness.
     The ground acceleration is linear between its samples; the building starts at rest.
 
     :meth:`simulate` integrates all records with classical Runge-Kutta in compiled code:
@@ -205,9 +226,17 @@ class ShearBuilding(Structure):
         return self.story_law.coefficients(self.story_stiffnesses)
 
     @cached_property
+    def coupling(self) -> np.ndarray:
+        """``[d, d]`` the linear stiffness between the floors beside the story springs, N/m
+        (zeros where there is none)."""
+        if self.params.coupling is None:
+            return np.zeros((self.n_stories, self.n_stories))
+        return np.array(self.params.coupling, dtype=np.float64)
+
+    @cached_property
     def _matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         mass = self.masses
-        stiffness = elastic_stiffness(self.story_stiffnesses)
+        stiffness = elastic_stiffness(self.story_stiffnesses) + self.coupling
         modes = self.rayleigh_modes
         if modes is None:
             return mass, stiffness, classical_damping(mass, stiffness, self.params.damping_ratio)
@@ -226,7 +255,7 @@ class ShearBuilding(Structure):
     def _bouc_wen_model(self) -> ShearBuildingModel | None:
         """The model of the dedicated kernel, for a uniform ``bouc-wen`` law; else None."""
         law = self.story_law
-        if not (isinstance(law, BoucWenLaw) and law.uniform()):
+        if not (isinstance(law, BoucWenLaw) and law.uniform()) or self.coupling.any():
             return None
         k, alpha, a, beta, gamma, exponent = self.law_coefficients[0]
         mass, _, damping = self._matrices
@@ -236,7 +265,7 @@ class ShearBuilding(Structure):
 
     def _chain(self, basis: np.ndarray) -> StoryChain:
         mass, stiffness, damping = self._matrices
-        return project_chain(mass, damping, stiffness, self.law_coefficients, basis)
+        return project_chain(mass, damping, stiffness, self.coupling, self.law_coefficients, basis)
 
     def simulate(self, motions: GroundMotions, *, dt: float | None = None) -> Responses:
         """Nonlinear response of every record.
@@ -424,7 +453,8 @@ class ShearBuilding(Structure):
         classical Runge-Kutta steps of at most :data:`STORY_TEST_RESOLUTION` times the
         story's largest drift and ``settle`` after each
         (the stories of a shear building are independent springs, so this is also their
-        part in any static analysis).
+        part in any static analysis; a ``coupling`` carries shear of its own beside them,
+        which :meth:`story_pushover` adds).
 
         Args:
             drift: ``[p, n_stories]`` story drifts, m, starting anywhere (0 at rest).
@@ -458,8 +488,10 @@ class ShearBuilding(Structure):
         and the pattern changes only how far each story goes for a roof drift. This
         pushover deforms the building with the same drift ratio in every story (story
         ``i``'s drift is ``roof_drift_ratio`` times its height) and returns the story
-        shears of :meth:`story_shears` along it; it never stops early (a story whose law
-        softens past yield, a negative ``alpha``, loses strength along it).
+        shears of :meth:`story_shears` along it (with the shears the ``coupling``
+        carries, :func:`~cphysfno_core.signals.coupling_story_shear`); it never stops
+        early (a story whose law softens past yield, a negative ``alpha``, loses strength
+        along it).
 
         Args:
             roof_drift_ratio: ``[p]`` roof displacement over the building's height, from 0.
@@ -474,7 +506,7 @@ class ShearBuilding(Structure):
         if ratio.ndim != 1:
             raise InputError(f"{self.name}: roof_drift_ratio must be [p], got {ratio.shape}")
         drift = ratio[:, None] * self.story_heights[None, :]
-        shear = self.story_shears(drift)
+        shear = self.story_shears(drift) + coupling_story_shear(self.coupling, drift)
         if pattern is None:
             pattern = first_mode_pattern(self.linear_system(), range(self.n_stories), self.masses)
         pattern = lateral_pattern(pattern, self.n_stories)
@@ -491,4 +523,4 @@ class ShearBuilding(Structure):
         """The story forces seen from the floors, ``A_f^T F(A_f u, s)``, and the law's rate."""
         if self._bouc_wen_model is not None:
             return BoucWenRestoringForce(self._bouc_wen_model)
-        return StoryLawRestoringForce(self.story_law, self.law_coefficients)
+        return StoryLawRestoringForce(self.story_law, self.law_coefficients, self.coupling)

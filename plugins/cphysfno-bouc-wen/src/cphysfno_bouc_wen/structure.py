@@ -100,6 +100,11 @@ class BoucWenShearBuilding(ShearBuilding):
         return None
 
     @property
+    def coupling(self) -> np.ndarray:
+        """No stiffness between the floors beside the story springs: zeros."""
+        return np.zeros((self.n_stories, self.n_stories))
+
+    @property
     def delta(self) -> float:
         """Bouc-Wen delta in 1/m^n: the parameter, or ``1 / (2 u_y^n)``."""
         return float(self.law_coefficients[0, 3])

@@ -16,7 +16,7 @@ from cphysfno_core.plugin import PhysicsPreprocessor, Stories, Structure
 from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 
 from .fitted import check_fitted
-from .stick_calibration import LAW_SPACES, StickCalibration, calibrate
+from .stick_calibration import LAW_SPACES, StickCalibration, calibrate, warn_where_off
 from .stick_figures import write_stick_artifacts
 from .stick_probes import dynamic_errors
 
@@ -34,8 +34,11 @@ class Stick(PhysicsPreprocessor):
     heights, initial stiffnesses that give the structure's first period, the structure's
     damping, and one story law for every story, each of ``laws`` fitted story by story to
     the monotonic and cyclic curves together (the monotonic one shows a story that softens
-    past the cycles' drifts) and one chosen by ``law_choice``: by default the law whose
-    stick is closest to the structure itself under three resonant probe pulses
+    past the cycles' drifts). With ``coupling`` it adds a linear coupling between the
+    floors that gives the stick the structure's own stiffness at its floors (so its higher
+    periods too; the springs then hold the curves less the coupling's share), or not, or
+    fits both forms. The form and law are chosen by ``law_choice``: by default the pair
+    whose stick is closest to the structure itself under three resonant probe pulses
     (:mod:`~cphysfno_physics.stick_probes`; the structure is analysed on them once), else
     the one that fits the pushovers best. :meth:`transform` simulates that building on its
     compiled kernel; the structure is not called again.
@@ -86,6 +89,14 @@ class Stick(PhysicsPreprocessor):
             "that drive the pushover-chosen stick to the three largest cycle amplitudes "
             "(the structure is analysed on them once)",
         )
+        coupling: Literal["floors", "none", "choose"] = Field(
+            "choose",
+            description="'floors': give the stick the structure's own stiffness at its "
+            "floors, a linear coupling between the floors beside the story springs (every "
+            "period of the floor-condensed structure: a frame's flexure); 'none': story "
+            "springs alone (a plain shear building, whose higher periods are longer than a "
+            "frame's); 'choose': fit both and keep the one law_choice ranks first",
+        )
         tolerance: float = Field(
             0.1,
             gt=0.0,
@@ -111,13 +122,18 @@ class Stick(PhysicsPreprocessor):
         cyclic = structure.story_pushover(
             cyclic_protocol(p.cycle_amplitudes, p.points_per_cycle), backbone.pattern
         )
-        calibration = calibrate(structure, backbone, cyclic, p.laws, p.tolerance)
-        if p.law_choice == "dynamic" and len(calibration.fits) > 1:
+        forms = {"floors": (True,), "none": (False,), "choose": (True, False)}[p.coupling]
+        candidates = [calibrate(structure, backbone, cyclic, p.laws, forms[0])]
+        if len(forms) > 1 and candidates[0].coupling is not None:  # a shear building has none
+            candidates.append(calibrate(structure, backbone, cyclic, p.laws, forms[1]))
+        candidates.sort(key=lambda c: c.fits[c.law].worst)  # the pushovers' choice first
+        calibration = candidates[0]
+        if p.law_choice == "dynamic" and sum(len(c.fits) for c in candidates) > 1:
             amplitudes = sorted(p.cycle_amplitudes)[-3:]
-            errors = dynamic_errors(structure, calibration, floors, amplitudes)
+            errors = dynamic_errors(structure, candidates, floors, amplitudes)
             if errors is not None:
-                chosen = min(errors, key=errors.__getitem__)
-                calibration = dataclasses.replace(calibration, law=chosen, dynamic_errors=errors)
+                calibration = _dynamic_choice(candidates, errors)
+        warn_where_off(structure, calibration, p.tolerance)
         return self._built(calibration, floors)
 
     def restore(self, structure: Structure, directory: Path) -> Stick:
@@ -134,7 +150,7 @@ class Stick(PhysicsPreprocessor):
 
     def _built(self, calibration: StickCalibration, floors: np.ndarray) -> Stick:
         self.calibration_ = calibration
-        self.stick_ = create("structure", "shear-building", **calibration.shear_building())
+        self.stick_ = calibration.building()
         self.floors_ = floors
         return self
 
@@ -149,8 +165,15 @@ class Stick(PhysicsPreprocessor):
         """These parameters with ``laws`` the law this stick chose: every member of a
         family gets the same law."""
         check_fitted(self, "stick_")
-        chosen = self.stick_.get_params()["story_law"]["name"]
-        return {**self.get_params(), "laws": [chosen], "law_choice": "pushover"}
+        params = self.stick_.get_params()
+        chosen = params["story_law"]["name"]
+        coupling = "none" if params["coupling"] is None else "floors"
+        return {
+            **self.get_params(),
+            "laws": [chosen],
+            "law_choice": "pushover",
+            "coupling": coupling,
+        }
 
     def calibrated(self, structure: Structure, calibration: dict[str, Any]) -> Stick:
         """The stick of ``calibration`` (as :meth:`calibration` gives it) for
@@ -208,6 +231,24 @@ class Stick(PhysicsPreprocessor):
         curves, structure against stick): :func:`~.stick_figures.write_stick_artifacts`."""
         check_fitted(self, "calibration_")
         return write_stick_artifacts(self.calibration_, Path(directory))
+
+
+def _dynamic_choice(
+    candidates: list[StickCalibration], errors: list[dict[str, float]]
+) -> StickCalibration:
+    """The candidate and law of the lowest probe error, with every candidate's errors
+    (``"<law>"`` with the coupling, ``"<law>, springs alone"`` without, where both were
+    fitted)."""
+    both = len({c.coupling is None for c in candidates}) > 1
+    labelled, best = {}, None
+    for calibration, found in zip(candidates, errors, strict=True):
+        suffix = ", springs alone" if both and calibration.coupling is None else ""
+        for law, error in found.items():
+            labelled[law + suffix] = error
+            if best is None or error < best[0]:
+                best = (error, calibration, law)
+    _, calibration, law = best
+    return dataclasses.replace(calibration, law=law, dynamic_errors=labelled)
 
 
 def _floors(stories: Stories, n_outputs: int, name: str) -> np.ndarray:

@@ -9,13 +9,21 @@ the stick). The monotonic curve goes further than the cycles (by default to 3 % 
 drift against 2 %), so a story that softens there (P-Delta, capping) is seen; ``bilinear``
 and ``bouc-wen`` can follow it with a negative post-yield ratio. The law whose worst story
 fits best is chosen.
+
+Story springs alone make a shear building, whose higher periods are longer than a frame's
+(a frame's beams and columns bend: its floors are coupled beyond the stories next to each
+other). The stick can take the structure's own elastic stiffness at its floors instead
+(:func:`~cphysfno_core.signals.floor_stiffness`): a linear ``coupling`` between the floors,
+the floor stiffness less the springs' initial one, beside springs fitted to the pushovers'
+story shears less the share the coupling carries along them. Its periods are then the
+floor-condensed structure's and its pushover is still the structure's.
 """
 
 from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -25,6 +33,7 @@ import scipy.sparse
 
 from cphysfno_core import ConfigError, CphysfnoError, CphysfnoWarning, create
 from cphysfno_core.plugin import LinearSystem, Rayleigh, StoryPushover, Structure
+from cphysfno_core.signals import coupling_story_shear, floor_stiffness
 
 MAX_ITERATIONS = 50
 """Least-squares iterations from each start (the Jacobian's evaluations aside)."""
@@ -35,6 +44,10 @@ POST_YIELD_SHARE = 0.2
 HARDENING = (0.0, 0.99)
 """The post-yield stiffness ratios ``alpha`` the fit can reach for a law whose backbone
 does not fall past yield."""
+
+COUPLING_ROUND_OFF = 1e-9
+"""A coupling no larger than this share of the floor stiffness's largest entry is none (a
+shear building's own floor stiffness is its springs')."""
 
 SOFTENING = (-0.5, 0.99)
 """The post-yield stiffness ratios ``alpha`` the fit can reach for a law that may soften
@@ -171,6 +184,9 @@ class StickCalibration:
         dynamic_errors: law name -> the relative L2 of each law's stick against the
             structure under the probe pulses, where the law was chosen by them
             (``law_choice = "dynamic"``), else None.
+        coupling: ``[d, d]`` the linear stiffness between the floors beside the springs
+            (N/m; the structure's floor stiffness less the springs' initial one), or None
+            for springs alone.
     """
 
     backbone: StoryPushover
@@ -184,6 +200,7 @@ class StickCalibration:
     law: str
     fits: dict[str, LawFit]
     dynamic_errors: dict[str, float] | None = None
+    coupling: np.ndarray | None = None
 
     def story_law(self) -> dict[str, Any]:
         """The chosen law as a ``shear-building``'s ``story_law``: its name and one value
@@ -200,7 +217,24 @@ class StickCalibration:
             "story_law": self.story_law(),
             "damping_ratio": self.damping_ratio,
             "rayleigh_modes": self.rayleigh_modes,
+            "coupling": None
+            if self.coupling is None
+            else tuple(tuple(row) for row in self.coupling.tolist()),
         }
+
+    def building(self, law: str | None = None) -> Structure:
+        """The stick: the ``shear-building`` of :meth:`shear_building`, with the fitted
+        ``law`` (a name in :attr:`fits`) instead of the chosen one where given."""
+        member = self if law is None else replace(self, law=law)
+        return create("structure", "shear-building", **member.shear_building())
+
+    def stick_shears(self, curve: StoryPushover) -> np.ndarray:
+        """``[p, d]`` the stick's story shears (N) along the story drifts of ``curve``
+        (from rest): its springs' and its coupling's."""
+        shears = replay(self.story_law(), curve, self.stiffness)
+        if self.coupling is not None:
+            shears += coupling_story_shear(self.coupling, curve.story_drift)
+        return shears
 
     def to_dict(self) -> dict[str, Any]:
         """Everything as plain JSON-compatible values (SI units)."""
@@ -219,6 +253,7 @@ class StickCalibration:
                 for name, fit in self.fits.items()
             },
             "dynamic_errors": self.dynamic_errors,
+            "coupling": None if self.coupling is None else self.coupling.tolist(),
         }
 
     @classmethod
@@ -240,15 +275,29 @@ class StickCalibration:
                 for name, fit in document["fits"].items()
             },
             dynamic_errors=document.get("dynamic_errors"),
+            coupling=None
+            if document.get("coupling") is None
+            else np.asarray(document["coupling"], dtype=np.float64),
         )
 
 
-def chain_periods(masses: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
-    """``[d]`` periods (s, longest first) of the shear building of floor ``masses`` (kg)
-    and story ``stiffness`` (N/m)."""
+def chain_stiffness(stiffness: np.ndarray) -> np.ndarray:
+    """``[d, d]`` the stiffness matrix (N/m) of a chain of story springs of ``stiffness``
+    (N/m, bottom first) at its floors."""
     k = np.asarray(stiffness, dtype=np.float64)
     above = np.append(k[1:], 0.0)
-    matrix = np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
+    return np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
+
+
+def chain_periods(
+    masses: np.ndarray, stiffness: np.ndarray, coupling: np.ndarray | None = None
+) -> np.ndarray:
+    """``[d]`` periods (s, longest first) of the shear building of floor ``masses`` (kg)
+    and story ``stiffness`` (N/m), with a ``coupling`` (``[d, d]``, N/m) between its floors
+    where given."""
+    matrix = chain_stiffness(stiffness)
+    if coupling is not None:
+        matrix = matrix + coupling
     root = 1.0 / np.sqrt(np.asarray(masses, dtype=np.float64))
     squares = np.linalg.eigvalsh(matrix * np.outer(root, root))
     return 2.0 * np.pi / np.sqrt(squares)
@@ -430,21 +479,21 @@ def calibrate(
     backbone: StoryPushover,
     cyclic: StoryPushover,
     laws: Sequence[str],
-    tolerance: float,
+    coupled: bool = True,
 ) -> StickCalibration:
     """The stick of ``structure`` from its monotonic and cyclic pushovers.
 
     - Masses, heights: the pushover's floors.
     - Initial story stiffnesses: the backbone's initial slopes, all scaled by one factor
-      so that the stick's first period is the structure's (``structure.periods``) to
-      round-off; a :class:`~cphysfno_core.CphysfnoWarning` names every further period of
-      the stick more than ``tolerance`` (relative) from the structure's.
+      so that the first period of the springs alone is the structure's
+      (``structure.periods``) to round-off.
+    - Coupling (where ``coupled``): :func:`floor_coupling`, the structure's floor
+      stiffness less the springs'; the stick's periods are then those of the floor
+      stiffness.
     - Damping: :func:`stick_damping` of the modal damping ratios of the structure's
-      equivalent linear system; a warning names the modes whose ratio in the stick is more
-      than ``tolerance`` (relative) from the structure's (a damping that is neither
-      classical nor Rayleigh, such as mass-proportional damping alone).
-    - Story law: :func:`fit_laws` on the monotonic and cyclic curves, at those
-      stiffnesses.
+      equivalent linear system.
+    - Story law: :func:`fit_laws` on the monotonic and cyclic curves less the shear the
+      coupling carries along them, at those stiffnesses.
     """
     count = min(backbone.n_stories, len(structure.periods()))
     periods = np.asarray(structure.periods(count), dtype=np.float64)
@@ -456,21 +505,80 @@ def calibrate(
         )
     scale = float((chain_periods(backbone.masses, initial)[0] / periods[0]) ** 2)
     stiffness = scale * initial
-    stick_periods = chain_periods(backbone.masses, stiffness)[:count]
+    coupling = floor_coupling(structure, stiffness) if coupled else None
+    stick_periods = chain_periods(backbone.masses, stiffness, coupling)[:count]
+    ratio, modes = stick_damping(modal_damping(structure.equivalent_linear_system(), count))
+    springs = [_less_coupling(curve, coupling) for curve in (backbone, cyclic)]
+    law, fits = fit_laws(*springs, stiffness, laws)
+    return StickCalibration(
+        backbone,
+        cyclic,
+        stiffness,
+        scale,
+        periods,
+        stick_periods,
+        ratio,
+        modes,
+        law,
+        fits,
+        coupling=coupling,
+    )
+
+
+def floor_coupling(structure: Structure, stiffness: np.ndarray) -> np.ndarray | None:
+    """``[d, d]`` the linear stiffness (N/m) between the floors that gives story springs
+    of initial ``stiffness`` (N/m) the structure's own stiffness at its floors
+    (:func:`~cphysfno_core.signals.floor_stiffness` of its ``linear_system``, else of its
+    ``equivalent_linear_system``); None where the springs have it already (a shear
+    building's: within :data:`COUPLING_ROUND_OFF`).
+
+    Raises:
+        CphysfnoError: the floor stiffness is not positive definite (a structure unstable
+            under its gravity loads at rest).
+    """
+    system = (
+        structure.linear_system()
+        if "linear_system" in structure.capabilities
+        else structure.equivalent_linear_system()
+    )
+    floors = floor_stiffness(system, structure.stories().upper)
+    if np.linalg.eigvalsh(floors)[0] <= 0.0:
+        raise CphysfnoError(
+            f"stick: the stiffness of structure '{structure.name}' at its floors is not "
+            "positive definite; set coupled = false for story springs alone"
+        )
+    coupling = floors - chain_stiffness(stiffness)
+    if np.abs(coupling).max() <= COUPLING_ROUND_OFF * np.abs(floors).max():
+        return None
+    return coupling
+
+
+def _less_coupling(curve: StoryPushover, coupling: np.ndarray | None) -> StoryPushover:
+    """``curve`` with the story shears the springs carry: less the coupling's share."""
+    if coupling is None:
+        return curve
+    share = coupling_story_shear(coupling, curve.story_drift)
+    return replace(curve, story_shear=curve.story_shear - share)
+
+
+def warn_where_off(structure: Structure, calibration: StickCalibration, tolerance: float) -> None:
+    """Warn (:class:`~cphysfno_core.CphysfnoWarning`) naming the modes whose period or
+    damping ratio in the stick of ``calibration`` is more than ``tolerance`` (relative)
+    from the structure's (a damping that is neither classical nor Rayleigh, such as
+    mass-proportional damping alone, gives other ratios)."""
+    periods, stick_periods = calibration.periods, calibration.stick_periods
     _warn_where_off(structure, "periods", stick_periods, periods, tolerance)
-    ratios = modal_damping(structure.equivalent_linear_system(), count)
-    ratio, modes = stick_damping(ratios)
+    ratios = modal_damping(structure.equivalent_linear_system(), len(periods))
     omega = 2.0 * np.pi / stick_periods
+    modes = calibration.rayleigh_modes
     if modes is None:
-        stick_ratios = np.full(count, ratio)
+        stick_ratios = np.full(len(periods), calibration.damping_ratio)
     else:
-        rayleigh = Rayleigh.matching(omega[modes[0] - 1], omega[modes[1] - 1], ratio)
+        rayleigh = Rayleigh.matching(
+            omega[modes[0] - 1], omega[modes[1] - 1], calibration.damping_ratio
+        )
         stick_ratios = rayleigh.ratio(omega)
     _warn_where_off(structure, "damping ratios", stick_ratios, ratios, tolerance)
-    law, fits = fit_laws(backbone, cyclic, stiffness, laws)
-    return StickCalibration(
-        backbone, cyclic, stiffness, scale, periods, stick_periods, ratio, modes, law, fits
-    )
 
 
 def _warn_where_off(
@@ -485,5 +593,5 @@ def _warn_where_off(
             f"structure's {own.tolist()}; modes {(np.flatnonzero(off) + 1).tolist()} differ by "
             f"more than {tolerance:.0%}",
             CphysfnoWarning,
-            stacklevel=3,
+            stacklevel=4,
         )

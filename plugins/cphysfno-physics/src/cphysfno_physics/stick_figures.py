@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from .stick_calibration import StickCalibration, replay
+from .stick_calibration import StickCalibration
 
 FIT_WARNING = 0.10
 """Worst-story fit error (RMS shear error over peak shear on the monotonic and cyclic
@@ -44,7 +44,13 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
         "shear error over the peak shear on the monotonic and cyclic pushovers"
         + (f"; the other laws: {others}" if others else "")
         + f"). Periods, structure: {periods} s; stick: {stick} s (stiffness scale "
-        f"{calibration.stiffness_scale:.3f}). Damping ratio {calibration.damping_ratio:.3f}"
+        f"{calibration.stiffness_scale:.3f}; "
+        + (
+            "story springs alone"
+            if calibration.coupling is None
+            else "the structure's floor stiffness: springs and a coupling between floors"
+        )
+        + f"). Damping ratio {calibration.damping_ratio:.3f}"
         + (
             "."
             if calibration.rayleigh_modes is None
@@ -72,10 +78,9 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
 def plot_calibration(calibration: StickCalibration, path: Path) -> Path:
     """One column a story: the monotonic pushover (top) and the cyclic one (bottom), story
     shear against drift, the structure's curve and the stick's along the same drifts."""
-    law = calibration.story_law()
     curves = [
-        (calibration.backbone, replay(law, calibration.backbone, calibration.stiffness)),
-        (calibration.cyclic, replay(law, calibration.cyclic, calibration.stiffness)),
+        (curve, calibration.stick_shears(curve))
+        for curve in (calibration.backbone, calibration.cyclic)
     ]
     stories = calibration.backbone.n_stories
     figure = Figure(figsize=(3.0 * stories, 5.6), layout="constrained")

@@ -13,13 +13,12 @@ roof drift ratio; the structure is analysed once on them.
 
 from __future__ import annotations
 
-import dataclasses
 import warnings
 from collections.abc import Sequence
 
 import numpy as np
 
-from cphysfno_core import CphysfnoWarning, GroundMotions, create
+from cphysfno_core import CphysfnoWarning, GroundMotions
 from cphysfno_core.plugin import Structure
 
 from .stick_calibration import StickCalibration
@@ -54,7 +53,7 @@ def probe_motions(calibration: StickCalibration, amplitudes: Sequence[float]) ->
     """``[len(amplitudes), T]`` the probe pulse scaled, for each roof drift ratio of
     ``amplitudes``, so that the stick of ``calibration`` reaches it (bisection in the
     scale's logarithm between 1e-3 and 1e3 m/s^2)."""
-    stick = create("structure", "shear-building", **calibration.shear_building())
+    stick = calibration.building()
     unit = probe_shape(float(calibration.periods[0]))
     height = float(calibration.backbone.heights.sum())
     scales = []
@@ -71,22 +70,23 @@ def probe_motions(calibration: StickCalibration, amplitudes: Sequence[float]) ->
 
 def dynamic_errors(
     structure: Structure,
-    calibration: StickCalibration,
+    calibrations: Sequence[StickCalibration],
     floors: np.ndarray,
     amplitudes: Sequence[float],
-) -> dict[str, float] | None:
-    """Law name -> the relative L2 (over probes, samples and outputs) of the stick of each
-    fitted law against the structure under the probes of :func:`probe_motions`; None
-    where the structure collapses or fails on every probe (a
-    :class:`~cphysfno_core.CphysfnoWarning` says so).
+) -> list[dict[str, float]] | None:
+    """For each calibration, law name -> the relative L2 (over probes, samples and
+    outputs) of the stick of each fitted law against the structure under the probes of
+    :func:`probe_motions` (scaled with the first calibration); None where the structure
+    collapses or fails on every probe (a :class:`~cphysfno_core.CphysfnoWarning` says so).
 
     Args:
-        structure: the structure the stick was fitted to.
-        calibration: its calibration, every candidate law fitted.
+        structure: the structure the sticks were fitted to.
+        calibrations: its calibrations (one per form of the stick), every candidate law
+            fitted in each.
         floors: ``[n_outputs]`` the stick floor of each output.
-        amplitudes: the roof drift ratios the probes drive the pushover-chosen stick to.
+        amplitudes: the roof drift ratios the probes drive the first calibration's stick to.
     """
-    motions = probe_motions(calibration, amplitudes)
+    motions = probe_motions(calibrations[0], amplitudes)
     truth = structure.simulate(motions)
     kept = ~truth.collapsed & np.isfinite(truth.displacement).all(axis=(1, 2))
     if not kept.any():
@@ -99,13 +99,15 @@ def dynamic_errors(
         return None
     probes = motions[np.flatnonzero(kept)]
     u = truth.displacement[kept]
-    errors = {}
-    for law in calibration.fits:
-        member = dataclasses.replace(calibration, law=law)
-        stick = create("structure", "shear-building", **member.shear_building())
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", CphysfnoWarning)
-            z = stick.simulate(probes).displacement[:, :, floors]
-        error = float(np.sqrt(np.sum((z - u) ** 2) / np.sum(u**2)))
-        errors[law] = error if np.isfinite(error) else float("inf")
-    return errors
+    found = []
+    for calibration in calibrations:
+        errors = {}
+        for law in calibration.fits:
+            stick = calibration.building(law)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", CphysfnoWarning)
+                z = stick.simulate(probes).displacement[:, :, floors]
+            error = float(np.sqrt(np.sum((z - u) ** 2) / np.sum(u**2)))
+            errors[law] = error if np.isfinite(error) else float("inf")
+        found.append(errors)
+    return found
