@@ -42,6 +42,16 @@ def test_the_loss_of_several_kinds_is_the_sum_of_their_own_relative_l2():
     assert abs(pooled.item() - by_kind[1].item()) < 0.01 * by_kind[0].item()  # one kind rules
 
 
+def test_a_kind_that_is_zero_throughout_the_batch_adds_nothing_to_the_loss():
+    truth = torch.zeros(2, 5, 2, dtype=torch.float64)
+    truth[:, :, 0] = torch.tensor([[3.0, 0.0, 0.0, 0.0, 4.0], [0.0, 0.0, 0.0, 0.0, 0.0]])
+    prediction = truth.clone()
+    prediction[0, 0, 0] = 4.0  # an error of norm 1 against norms 5 and 0: 1 / 5
+    prediction[:, :, 1] = 2.0  # a response no record of the batch excites
+    loss = relative_l2_loss(prediction, truth, groups=(1, 1))
+    assert loss.item() == pytest.approx(0.2, rel=1e-12)
+
+
 def test_a_run_learns_accelerations_and_takes_pfa_from_them(toy_registry, tmp_path):
     evaluation = pipeline.run(cp.parse_config(CONFIG), tmp_path)
     document = json.loads((tmp_path / "metrics.json").read_text())

@@ -109,10 +109,15 @@ def relative_l2_loss(
     Both tensors are ``[batch, T, dof]``; the norms run over time. With ``groups`` (the
     number of channels of each response kind, in order, e.g. ``(5, 5)`` for displacements
     then accelerations), the sum over the kinds of each kind's own relative L2, so that no
-    kind weighs more for its unit.
+    kind weighs more for its unit. A kind whose target is zero throughout the batch (a
+    named response no record of it excites) adds nothing: it has no scale there.
     """
-    error, norm = _error_and_norm(prediction, target, groups)
-    return (error / norm.clamp_min(1e-30)).sum()
+    return _relative(*_error_and_norm(prediction, target, groups))
+
+
+def _relative(error: torch.Tensor, norm: torch.Tensor) -> torch.Tensor:
+    """The sum over groups of ``error / norm``, a group of zero ``norm`` left out."""
+    return torch.where(norm > 0, error / norm.clamp_min(1e-30), torch.zeros_like(error)).sum()
 
 
 def _error_and_norm(
@@ -218,7 +223,7 @@ def _evaluate(
                 prediction, y[start : start + batch_size], groups
             )
             error, norm = error + part_error, norm + part_norm
-    return float((error / norm.clamp_min(1e-30)).sum())
+    return float(_relative(error, norm))
 
 
 def train_operator(
@@ -305,7 +310,7 @@ def train_operator(
         for start in range(0, xt.shape[0], settings.batch_size):
             rows = order[start : start + settings.batch_size].to(device)
             error, norm = _error_and_norm(decode(forward(xt[rows])), yt[rows], groups)
-            loss = (error / norm.clamp_min(1e-30)).sum()
+            loss = _relative(error, norm)
             optimiser.zero_grad(set_to_none=True)
             loss.backward()
             optimiser.step()
@@ -314,7 +319,7 @@ def train_operator(
         schedule.step()
         operator.eval()
         val_loss = _evaluate(forward, xv, yv, decode, settings.batch_size, groups)
-        train_loss = float((error_sum / norm_sum.clamp_min(1e-30)).sum())
+        train_loss = float(_relative(error_sum, norm_sum))
         history.train_loss.append(train_loss)
         history.val_loss.append(val_loss)
         improved = val_loss < best_val
