@@ -237,12 +237,12 @@ def _dynamic_choice(
     candidates: list[StickCalibration], errors: list[dict[str, float]]
 ) -> StickCalibration:
     """The candidate and law of the lowest probe error, with every candidate's errors
-    (``"<law>"`` with the coupling, ``"<law>, springs alone"`` without, where both were
+    (``"<law>"`` with the coupling, ``"<law> (springs alone)"`` without, where both were
     fitted)."""
     both = len({c.coupling is None for c in candidates}) > 1
     labelled, best = {}, None
     for calibration, found in zip(candidates, errors, strict=True):
-        suffix = ", springs alone" if both and calibration.coupling is None else ""
+        suffix = " (springs alone)" if both and calibration.coupling is None else ""
         for law, error in found.items():
             labelled[law + suffix] = error
             if best is None or error < best[0]:
