@@ -19,21 +19,19 @@ DAMPING_RATIO = 0.04
 
 
 def coupled(**extra):
-    return create(
-        "structure",
-        "shear-building",
-        masses=tuple(MASSES),
-        stiffnesses=tuple(STIFFNESS),
-        story_law={
+    params = {
+        "masses": tuple(MASSES),
+        "stiffnesses": tuple(STIFFNESS),
+        "story_law": {
             "name": "bouc-wen",
             "alpha": ALPHA,
             "exponent": EXPONENT,
             "yield_displacement": YIELD,
         },
-        damping_ratio=DAMPING_RATIO,
-        coupling=tuple(map(tuple, COUPLING)),
-        **extra,
-    )
+        "damping_ratio": DAMPING_RATIO,
+        "coupling": tuple(map(tuple, COUPLING)),
+    }
+    return create("structure", "shear-building", **{**params, **extra})
 
 
 def reference(ag: np.ndarray, dt: float) -> np.ndarray:
@@ -108,11 +106,39 @@ def test_a_coupled_pushover_adds_the_couplings_shears():
     assert np.abs(share).max() > 0.1 * np.abs(springs).max()
 
 
+def elastic(**extra):
+    """The coupled building with springs that never yield."""
+    law = {"name": "bilinear", "alpha": 0.5, "yield_displacement": 10.0}
+    return coupled(story_law=law, **extra)
+
+
+def test_the_story_shears_of_a_record_carry_the_coupling():
+    rng = np.random.default_rng(4)
+    responses = elastic().simulate(GroundMotions(rng.standard_normal((2, 301)), 0.01))
+    drift = responses.extras["story_drift"]
+    by_hand = STIFFNESS * drift + coupling_story_shear(COUPLING, drift)
+    assert np.allclose(responses.extras["story_shear"], by_hand, rtol=1e-12, atol=1e-6)
+
+
+def test_a_coupled_building_on_a_coarse_grid_or_in_its_modes_keeps_the_coupling():
+    rng = np.random.default_rng(5)
+    motions = GroundMotions(7.0 * rng.standard_normal((1, 801)), 0.01)
+    building = coupled()
+    coarse = building.simulate(motions, dt=0.02).displacement
+    resampled = building.simulate(motions.resample(0.02)).displacement
+    assert np.allclose(coarse, resampled, rtol=0.0, atol=1e-12)
+    _, modes = scipy.linalg.eigh(building.linear_system().stiffness, np.diag(MASSES))
+    projected = building.simulate_projected(motions, modes).displacement
+    full = building.simulate(motions).displacement
+    assert np.linalg.norm(projected - full) / np.linalg.norm(full) < 1e-6
+
+
 @pytest.mark.parametrize(
     ("coupling", "complaint"),
     [
         (((1.0, 2.0), (0.0, 1.0)), "symmetric"),
         (((1.0, 0.0, 0.0), (0.0, 1.0, 0.0)), r"\[2, 2\]"),
+        (((1.0, 0.0), (0.0,)), r"\[2, 2\]"),
     ],
 )
 def test_a_wrong_coupling_is_refused(coupling, complaint):
@@ -124,3 +150,14 @@ def test_a_wrong_coupling_is_refused(coupling, complaint):
             stiffnesses=(1.0, 1.0),
             coupling=coupling,
         )
+
+
+def test_a_coupling_that_makes_the_building_unstable_is_refused():
+    with pytest.raises(ConfigError, match="not positive definite"):
+        create(
+            "structure",
+            "shear-building",
+            masses=(1.0, 1.0),
+            stiffnesses=(1.0, 1.0),
+            coupling=((-3.0, 0.0), (0.0, 0.0)),
+        ).periods()

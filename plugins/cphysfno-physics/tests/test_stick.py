@@ -8,8 +8,8 @@ import json
 import numpy as np
 import pytest
 from cphysfno_bouc_wen.shear_building import ShearBuilding
-from cphysfno_physics import Stick, StickCalibration
-from cphysfno_physics.stick_calibration import LAW_SPACES
+from cphysfno_physics import Stick, StickCalibration, stick_calibration
+from cphysfno_physics.stick_calibration import LAW_SPACES, IndefiniteFloorStiffness
 
 from cphysfno_core import CapabilityError, ConfigError, CphysfnoWarning, GroundMotions, create
 from cphysfno_core.plugin import Stories
@@ -188,6 +188,17 @@ def test_both_forms_are_fitted_and_the_probes_choose_the_coupled_one(frame_like)
         "bouc-wen (springs alone)",
     }
     assert errors["bilinear"] < 1e-6 < 0.04 < errors["bilinear (springs alone)"]
+
+
+def test_a_floor_stiffness_that_is_not_positive_definite_leaves_springs_alone(monkeypatch):
+    structure = building(BILINEAR)
+    unstable = -structure.linear_system().stiffness  # as a structure unstable at rest gives
+    monkeypatch.setattr(stick_calibration, "floor_stiffness", lambda system, floors: unstable)
+    with pytest.raises(IndefiniteFloorStiffness, match='coupling = "none"'):
+        Stick(**FAST, laws=("bilinear",), coupling="floors").fit(structure)
+    with pytest.warns(CphysfnoWarning, match="springs alone"):
+        stick = Stick(**FAST, laws=("bilinear",)).fit(structure)
+    assert stick.calibration_.coupling is None
 
 
 def test_the_stick_of_a_plain_shear_building_has_no_coupling(bilinear_stick):

@@ -199,12 +199,12 @@ def floor_stiffness(system: LinearSystem, floors: Sequence[int]) -> np.ndarray:
 
 
 def coupling_story_shear(coupling: np.ndarray, drift: np.ndarray) -> np.ndarray:
-    """``[p, d]`` the story shears (N) a linear stiffness between the floors carries: the
+    """``[..., d]`` the story shears (N) a linear stiffness between the floors carries: the
     floor forces ``K_c u`` (``coupling [d, d]`` in N/m, ``u`` the floors' displacements,
-    the running sum of the story ``drift [p, d]``, m) summed over each story's floors
+    the running sum of the story ``drift [..., d]``, m) summed over each story's floors
     above."""
-    forces = np.cumsum(np.asarray(drift, dtype=np.float64), axis=1) @ coupling
-    return np.cumsum(forces[:, ::-1], axis=1)[:, ::-1]
+    forces = np.cumsum(np.asarray(drift, dtype=np.float64), axis=-1) @ coupling
+    return np.flip(np.cumsum(np.flip(forces, axis=-1), axis=-1), axis=-1)
 
 
 def lateral_pattern(pattern: Sequence[float] | np.ndarray, n_floors: int) -> np.ndarray:

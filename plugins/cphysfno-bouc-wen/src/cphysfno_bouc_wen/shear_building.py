@@ -128,9 +128,12 @@ class ShearBuildingParams(Params):
             raise ValueError(f"the number of stories differs between fields: {found}")
         if self.coupling is not None:
             d = next(iter(lengths.values()))
+            rows = {len(row) for row in self.coupling}
+            if len(self.coupling) != d or rows != {d}:
+                raise ValueError(f"coupling must be a [{d}, {d}] matrix of N/m")
             coupling = np.array(self.coupling, dtype=np.float64)
-            if coupling.shape != (d, d) or not np.isfinite(coupling).all():
-                raise ValueError(f"coupling must be a finite [{d}, {d}] matrix of N/m")
+            if not np.isfinite(coupling).all():
+                raise ValueError("coupling must be finite")
             if not np.allclose(coupling, coupling.T, rtol=1e-9, atol=1e-9 * np.abs(coupling).max()):
                 raise ValueError("coupling must be symmetric")
         return self
@@ -150,15 +153,16 @@ class ShearBuilding(Structure):
 
     :meth:`simulate` integrates all records with classical Runge-Kutta in compiled code:
     the law's functions inlined into a kernel made for them, float64; a ``bouc-wen`` law
-    with the same parameters in every story takes the dedicated vectorised kernel of the
-    paper's Example 1 building instead (the same equations, several times faster).
+    with the same parameters in every story and no coupling takes the dedicated
+    vectorised kernel of the paper's Example 1 building instead (the same equations,
+    several times faster).
 
     Outputs are the floor displacements relative to the ground (m), bottom floor first,
-    with the extras ``"story_drift"`` (m) and ``"story_shear"`` (N), each
-    ``[n, T, n_stories]``. A story law that softens past yield (``alpha < 0``) loses its
-    strength at a large enough drift; a record that drives a story there runs away and is
-    flagged ``collapsed`` (:attr:`Responses.collapsed`), its rows NaN from where the
-    integration overflowed.
+    with the extras ``"story_drift"`` (m) and ``"story_shear"`` (N, the springs' and the
+    coupling's), each ``[n, T, n_stories]``. A story law that softens past yield
+    (``alpha < 0``) loses its strength at a large enough drift; a record that drives a
+    story there runs away and is flagged ``collapsed`` (:attr:`Responses.collapsed`), its
+    rows NaN from where the integration overflowed.
     """
 
     name = "shear-building"
@@ -237,6 +241,11 @@ class ShearBuilding(Structure):
     def _matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         mass = self.masses
         stiffness = elastic_stiffness(self.story_stiffnesses) + self.coupling
+        if self.coupling.any() and np.linalg.eigvalsh(stiffness)[0] <= 0.0:
+            raise ConfigError(
+                f"{self.name}: the story stiffnesses with the coupling give a stiffness "
+                "matrix that is not positive definite"
+            )
         modes = self.rayleigh_modes
         if modes is None:
             return mass, stiffness, classical_damping(mass, stiffness, self.params.damping_ratio)
@@ -356,6 +365,8 @@ class ShearBuilding(Structure):
             again = self._kernel(motions[rows], basis, substeps)
             for values, redone in zip((displacement, drift, shear, finite), again, strict=True):
                 values[rows] = redone
+        if self.coupling.any():
+            shear = shear + coupling_story_shear(self.coupling, drift)
         extras = {"story_drift": drift, "story_shear": shear}
         if not finite.all() and not self.softens:
             raise CphysfnoError(
@@ -398,7 +409,9 @@ class ShearBuilding(Structure):
     def strength_lost_drift(self) -> np.ndarray:
         """``[d]`` the drift (m) past which each story has no strength left (its law's
         :meth:`~cphysfno_core.plugin.StoryLaw.strength_lost_drift`; inf where it keeps
-        some)."""
+        some). With a coupling this is the spring's alone: a record past it counts as a
+        collapse although the coupling's elastic share of the story's strength remains
+        (its spring fitted to the pushover less that share has none left)."""
         return self.story_law.strength_lost_drift(self.n_stories)
 
     @property
@@ -483,9 +496,10 @@ class ShearBuilding(Structure):
     ) -> StoryPushover:
         """Each story's shear-drift curve as the roof follows ``roof_drift_ratio``.
 
-        The stories of a shear building are independent springs, each loaded by its own
-        shear only: under any lateral pattern a story's shear-drift relation is its law's,
-        and the pattern changes only how far each story goes for a roof drift. This
+        Without a coupling the stories of a shear building are independent springs, each
+        loaded by its own shear only: under any lateral pattern a story's shear-drift
+        relation is its law's, and the pattern changes only how far each story goes for a
+        roof drift (a coupling's share depends on the whole displaced shape). This
         pushover deforms the building with the same drift ratio in every story (story
         ``i``'s drift is ``roof_drift_ratio`` times its height) and returns the story
         shears of :meth:`story_shears` along it (with the shears the ``coupling``
@@ -520,7 +534,8 @@ class ShearBuilding(Structure):
         return LinearSystem(np.diag(mass), damping, stiffness, np.ones(d), np.eye(d))
 
     def restoring_force(self) -> BoucWenRestoringForce | StoryLawRestoringForce:
-        """The story forces seen from the floors, ``A_f^T F(A_f u, s)``, and the law's rate."""
+        """The story forces seen from the floors, ``A_f^T F(A_f u, s) + K_c u``, and the
+        law's rate."""
         if self._bouc_wen_model is not None:
             return BoucWenRestoringForce(self._bouc_wen_model)
         return StoryLawRestoringForce(self.story_law, self.law_coefficients, self.coupling)

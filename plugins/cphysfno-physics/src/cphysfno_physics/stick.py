@@ -16,7 +16,13 @@ from cphysfno_core.plugin import PhysicsPreprocessor, Stories, Structure
 from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 
 from .fitted import check_fitted
-from .stick_calibration import LAW_SPACES, StickCalibration, calibrate, warn_where_off
+from .stick_calibration import (
+    LAW_SPACES,
+    IndefiniteFloorStiffness,
+    StickCalibration,
+    calibrate,
+    warn_where_off,
+)
 from .stick_figures import write_stick_artifacts
 from .stick_probes import dynamic_errors
 
@@ -31,10 +37,10 @@ class Stick(PhysicsPreprocessor):
     ratio of ``target_drift_ratio``, and through one cycle at each of
     ``cycle_amplitudes``. From the curves of its stories it builds a ``shear-building``
     (:func:`~cphysfno_physics.stick_calibration.calibrate`): the floor masses, the story
-    heights, initial stiffnesses that give the structure's first period, the structure's
-    damping, and one story law for every story, each of ``laws`` fitted story by story to
-    the monotonic and cyclic curves together (the monotonic one shows a story that softens
-    past the cycles' drifts). With ``coupling`` it adds a linear coupling between the
+    heights, initial stiffnesses that give springs alone the structure's first period, the
+    structure's damping, and one story law for every story, each of ``laws`` fitted story
+    by story to the monotonic and cyclic curves together (the monotonic one shows a story
+    that softens past the cycles' drifts). With ``coupling`` it adds a linear coupling between the
     floors that gives the stick the structure's own stiffness at its floors (so its higher
     periods too; the springs then hold the curves less the coupling's share), or not, or
     fits both forms. The form and law are chosen by ``law_choice``: by default the pair
@@ -123,7 +129,13 @@ class Stick(PhysicsPreprocessor):
             cyclic_protocol(p.cycle_amplitudes, p.points_per_cycle), backbone.pattern
         )
         forms = {"floors": (True,), "none": (False,), "choose": (True, False)}[p.coupling]
-        candidates = [calibrate(structure, backbone, cyclic, p.laws, forms[0])]
+        try:
+            candidates = [calibrate(structure, backbone, cyclic, p.laws, forms[0])]
+        except IndefiniteFloorStiffness as error:
+            if p.coupling != "choose":
+                raise
+            warnings.warn(f"{error}: the stick is springs alone", CphysfnoWarning, stacklevel=2)
+            candidates = [calibrate(structure, backbone, cyclic, p.laws, False)]
         if len(forms) > 1 and candidates[0].coupling is not None:  # a shear building has none
             candidates.append(calibrate(structure, backbone, cyclic, p.laws, forms[1]))
         candidates.sort(key=lambda c: c.fits[c.law].worst)  # the pushovers' choice first
@@ -157,7 +169,8 @@ class Stick(PhysicsPreprocessor):
     def calibration(self) -> dict[str, Any]:
         """``{"stick": ..., "floors": ...}``: the parameters of the stick's
         ``shear-building`` (masses, story stiffnesses, heights, the story law's name and its
-        parameters per story, damping) and the stick floor of each output."""
+        parameters per story, damping, the coupling between the floors or None) and the
+        stick floor of each output."""
         check_fitted(self, "stick_")
         return {"stick": self.stick_.get_params(), "floors": self.floors_.tolist()}
 

@@ -45,9 +45,17 @@ HARDENING = (0.0, 0.99)
 """The post-yield stiffness ratios ``alpha`` the fit can reach for a law whose backbone
 does not fall past yield."""
 
-COUPLING_ROUND_OFF = 1e-9
-"""A coupling no larger than this share of the floor stiffness's largest entry is none (a
-shear building's own floor stiffness is its springs')."""
+COUPLING_ROUND_OFF = 1e-3
+"""A coupling no larger than this share of the floor stiffness's largest entry is none: a
+shear building's own floor stiffness is its springs' (to the pushover's initial slopes,
+about 1e-4 off for a smooth law), and so small a coupling moves no period by more than
+about that share."""
+
+
+class IndefiniteFloorStiffness(CphysfnoError):
+    """The structure's stiffness at its floors is not positive definite: no coupling can
+    be made from it."""
+
 
 SOFTENING = (-0.5, 0.99)
 """The post-yield stiffness ratios ``alpha`` the fit can reach for a law that may soften
@@ -151,8 +159,9 @@ class LawFit:
     Attributes:
         parameters: the law's ``Params`` fields, one value per story (bottom first).
         errors: ``[d]`` each story's fit error, :func:`story_errors` over the points of
-            the monotonic and the cyclic curves together: the RMS shear error over them
-            divided by the story's largest absolute shear on them.
+            the monotonic and the cyclic curves together: the RMS error of the stick's
+            story shear (its spring's and its coupling's) over them divided by the
+            story's largest absolute shear on them.
     """
 
     parameters: dict[str, list[float]]
@@ -173,7 +182,8 @@ class StickCalibration:
         cyclic: the cyclic pushover.
         stiffness: ``[d]`` initial story stiffnesses of the stick, N/m: the backbone's
             initial slopes times ``stiffness_scale``.
-        stiffness_scale: the factor that gives the stick the structure's first period.
+        stiffness_scale: the factor that gives the springs alone the structure's first
+            period.
         periods: the structure's first periods, s.
         stick_periods: the stick's periods, s (as many).
         damping_ratio: the structure's damping ratio in its first mode.
@@ -183,7 +193,8 @@ class StickCalibration:
         fits: every candidate law's fit, by name.
         dynamic_errors: law name -> the relative L2 of each law's stick against the
             structure under the probe pulses, where the law was chosen by them
-            (``law_choice = "dynamic"``), else None.
+            (``law_choice = "dynamic"``), else None; ``"<law> (springs alone)"`` names the
+            stick without a coupling where both forms were fitted.
         coupling: ``[d, d]`` the linear stiffness between the floors beside the springs
             (N/m; the structure's floor stiffness less the springs' initial one), or None
             for springs alone.
@@ -510,6 +521,15 @@ def calibrate(
     ratio, modes = stick_damping(modal_damping(structure.equivalent_linear_system(), count))
     springs = [_less_coupling(curve, coupling) for curve in (backbone, cyclic)]
     law, fits = fit_laws(*springs, stiffness, laws)
+    if coupling is not None:  # the errors of the stick, not of its springs' share
+        fits = {
+            name: LawFit(
+                fit.parameters,
+                _coupled_errors(name, fit, (backbone, cyclic), stiffness, coupling).tolist(),
+            )
+            for name, fit in fits.items()
+        }
+        law = min(laws, key=lambda name: fits[name].worst)
     return StickCalibration(
         backbone,
         cyclic,
@@ -533,8 +553,8 @@ def floor_coupling(structure: Structure, stiffness: np.ndarray) -> np.ndarray | 
     building's: within :data:`COUPLING_ROUND_OFF`).
 
     Raises:
-        CphysfnoError: the floor stiffness is not positive definite (a structure unstable
-            under its gravity loads at rest).
+        IndefiniteFloorStiffness: the floor stiffness is not positive definite (a
+            structure unstable under its gravity loads at rest).
     """
     system = (
         structure.linear_system()
@@ -543,14 +563,29 @@ def floor_coupling(structure: Structure, stiffness: np.ndarray) -> np.ndarray | 
     )
     floors = floor_stiffness(system, structure.stories().upper)
     if np.linalg.eigvalsh(floors)[0] <= 0.0:
-        raise CphysfnoError(
+        raise IndefiniteFloorStiffness(
             f"stick: the stiffness of structure '{structure.name}' at its floors is not "
-            "positive definite; set coupled = false for story springs alone"
+            'positive definite; set coupling = "none" for story springs alone'
         )
     coupling = floors - chain_stiffness(stiffness)
     if np.abs(coupling).max() <= COUPLING_ROUND_OFF * np.abs(floors).max():
         return None
     return coupling
+
+
+def _coupled_errors(
+    name: str,
+    fit: LawFit,
+    curves: Sequence[StoryPushover],
+    stiffness: np.ndarray,
+    coupling: np.ndarray,
+) -> np.ndarray:
+    """``[d]`` :func:`story_errors` of the stick of law ``name`` fitted as ``fit`` (its
+    springs' shears and the coupling's) against the ``curves``' story shears."""
+    law = {"name": name, **{key: tuple(value) for key, value in fit.parameters.items()}}
+    shears = replay(law, curves, stiffness)
+    shears += np.vstack([coupling_story_shear(coupling, c.story_drift) for c in curves])
+    return story_errors(shears, np.vstack([c.story_shear for c in curves]))
 
 
 def _less_coupling(curve: StoryPushover, coupling: np.ndarray | None) -> StoryPushover:
