@@ -118,6 +118,9 @@ class Stick(PhysicsPreprocessor):
                 ``equivalent_linear_system``.
             ConfigError: its stories are not floors one above the other, or an output is
                 not a floor; a law is not one the calibration fits.
+            IndefiniteFloorStiffness: ``coupling = "floors"`` and the structure's
+                stiffness at its floors is not positive definite (``"choose"`` then keeps
+                springs alone, with a warning).
         """
         self.check(structure)
         p = self.params
