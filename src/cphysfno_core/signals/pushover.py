@@ -178,9 +178,8 @@ def floor_masses(system: LinearSystem, floors: Sequence[int]) -> np.ndarray:
         system: the structure's linear system.
         floors: ``[d]`` the output of each floor, in the rows of ``system.output_map``.
     """
-    rows = system.output_map[list(floors)]
-    flexibility = np.linalg.solve(system.stiffness, rows.T)
-    shapes = flexibility @ np.linalg.inv(rows @ flexibility)
+    flexibility, stiffness = _condensation(system, floors)
+    shapes = flexibility @ stiffness
     return shapes.T @ system.mass @ system.influence
 
 
@@ -193,9 +192,16 @@ def floor_stiffness(system: LinearSystem, floors: Sequence[int]) -> np.ndarray:
         system: the structure's linear system.
         floors: ``[d]`` the output of each floor, in the rows of ``system.output_map``.
     """
-    rows = system.output_map[list(floors)]
-    stiffness = np.linalg.inv(rows @ np.linalg.solve(system.stiffness, rows.T))
+    _, stiffness = _condensation(system, floors)
     return 0.5 * (stiffness + stiffness.T)
+
+
+def _condensation(system: LinearSystem, floors: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+    """``(K^-1 L_f^T [n_dof, d], (L_f K^-1 L_f^T)^-1 [d, d])``: the static condensation
+    onto the floors (``L_f`` the floors' rows of the output map)."""
+    rows = system.output_map[list(floors)]
+    flexibility = np.linalg.solve(system.stiffness, rows.T)
+    return flexibility, np.linalg.inv(rows @ flexibility)
 
 
 def coupling_story_shear(coupling: np.ndarray, drift: np.ndarray) -> np.ndarray:

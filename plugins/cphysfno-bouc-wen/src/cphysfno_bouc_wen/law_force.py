@@ -21,19 +21,17 @@ class StoryLawRestoringForce:
         law: the story law.
         coefficients: ``[d, n_c]`` its coefficients for each story.
         coupling: ``[d, d]`` the linear stiffness ``K_c`` beside the story springs, N/m
-            (None: none).
+            (zeros: none).
     """
 
-    def __init__(
-        self, law: StoryLaw, coefficients: np.ndarray, coupling: np.ndarray | None = None
-    ) -> None:
+    def __init__(self, law: StoryLaw, coefficients: np.ndarray, coupling: np.ndarray) -> None:
         self._coefficients = np.ascontiguousarray(coefficients, dtype=np.float64)
         self._d = self._coefficients.shape[0]
         self._width = max(law.n_states, 1)
         self._law_states = law.n_states
         self._evaluate = law_evaluator(law.functions(), law.n_states)
         self._compat = compatibility_matrix(self._d)
-        self._coupling = np.zeros((self._d, self._d)) if coupling is None else coupling
+        self._coupling = coupling
         self.n_states = self._d * law.n_states
 
     def initial_state(self, n_records: int) -> np.ndarray:

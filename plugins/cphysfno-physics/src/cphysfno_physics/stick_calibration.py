@@ -239,13 +239,23 @@ class StickCalibration:
         member = self if law is None else replace(self, law=law)
         return create("structure", "shear-building", **member.shear_building())
 
-    def stick_shears(self, curve: StoryPushover) -> np.ndarray:
+    def stick_shears(self, curve: StoryPushover, law: str | None = None) -> np.ndarray:
         """``[p, d]`` the stick's story shears (N) along the story drifts of ``curve``
-        (from rest): its springs' and its coupling's."""
-        shears = replay(self.story_law(), curve, self.stiffness)
+        (from rest): its springs' and its coupling's; with the fitted ``law`` instead of
+        the chosen one where given."""
+        member = self if law is None else replace(self, law=law)
+        shears = replay(member.story_law(), curve, self.stiffness)
         if self.coupling is not None:
             shears += coupling_story_shear(self.coupling, curve.story_drift)
         return shears
+
+    def stick_errors(self, law: str) -> list[float]:
+        """``[d]`` :func:`story_errors` of the stick with the fitted ``law`` (its springs'
+        and its coupling's shears) against the structure's, over the monotonic and the
+        cyclic curves together."""
+        curves = (self.backbone, self.cyclic)
+        shears = np.vstack([self.stick_shears(curve, law) for curve in curves])
+        return story_errors(shears, np.vstack([c.story_shear for c in curves])).tolist()
 
     def to_dict(self) -> dict[str, Any]:
         """Everything as plain JSON-compatible values (SI units)."""
@@ -521,16 +531,7 @@ def calibrate(
     ratio, modes = stick_damping(modal_damping(structure.equivalent_linear_system(), count))
     springs = [_less_coupling(curve, coupling) for curve in (backbone, cyclic)]
     law, fits = fit_laws(*springs, stiffness, laws)
-    if coupling is not None:  # the errors of the stick, not of its springs' share
-        fits = {
-            name: LawFit(
-                fit.parameters,
-                _coupled_errors(name, fit, (backbone, cyclic), stiffness, coupling).tolist(),
-            )
-            for name, fit in fits.items()
-        }
-        law = min(laws, key=lambda name: fits[name].worst)
-    return StickCalibration(
+    calibration = StickCalibration(
         backbone,
         cyclic,
         stiffness,
@@ -543,6 +544,13 @@ def calibrate(
         fits,
         coupling=coupling,
     )
+    if coupling is None:
+        return calibration
+    # the errors of the stick, not of its springs' share
+    fits = {
+        name: LawFit(fit.parameters, calibration.stick_errors(name)) for name, fit in fits.items()
+    }
+    return replace(calibration, fits=fits, law=min(laws, key=lambda name: fits[name].worst))
 
 
 def floor_coupling(structure: Structure, stiffness: np.ndarray) -> np.ndarray | None:
@@ -571,21 +579,6 @@ def floor_coupling(structure: Structure, stiffness: np.ndarray) -> np.ndarray | 
     if np.abs(coupling).max() <= COUPLING_ROUND_OFF * np.abs(floors).max():
         return None
     return coupling
-
-
-def _coupled_errors(
-    name: str,
-    fit: LawFit,
-    curves: Sequence[StoryPushover],
-    stiffness: np.ndarray,
-    coupling: np.ndarray,
-) -> np.ndarray:
-    """``[d]`` :func:`story_errors` of the stick of law ``name`` fitted as ``fit`` (its
-    springs' shears and the coupling's) against the ``curves``' story shears."""
-    law = {"name": name, **{key: tuple(value) for key, value in fit.parameters.items()}}
-    shears = replay(law, curves, stiffness)
-    shears += np.vstack([coupling_story_shear(coupling, c.story_drift) for c in curves])
-    return story_errors(shears, np.vstack([c.story_shear for c in curves]))
 
 
 def _less_coupling(curve: StoryPushover, coupling: np.ndarray | None) -> StoryPushover:
