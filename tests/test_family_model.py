@@ -3,6 +3,7 @@ physics response and, with ``formulation.parameter_input``, enter the operator a
 channels; saved and loaded with the model; refused or warned about where they do not
 fit."""
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -323,6 +324,43 @@ def test_records_the_median_pass_cannot_predict_are_counted(family_run, monkeypa
     skipped = document["skipped_records"]
     assert skipped["large"]["count"] == 0
     assert skipped["large-medians"] == {"count": 1, "first": {"0": "no physics at the medians"}}
+
+
+def test_records_whose_physics_collapses_count_as_exceeding(family_run, monkeypatch, tmp_path):
+    """The first record of every prediction made to collapse its physics: fitted as an
+    exceedance in each surrogate curve (none left out), written collapsed in demands."""
+    from cphysfno_core.app import demand_sample, fragility_study
+    from cphysfno_core.app.fragility_study import parse_limit_states, run_fragility
+
+    own = fragility_study.predict_skipping_failures
+
+    def first_collapses(model, motions, params=None):
+        responses, failures = own(model, motions, params)
+        collapsed, displacement = responses.collapsed.copy(), responses.displacement.copy()
+        collapsed[0], displacement[0] = True, np.nan
+        return dataclasses.replace(
+            responses, displacement=displacement, collapsed=collapsed, extras={}
+        ), failures
+
+    for module in (fragility_study, demand_sample):
+        monkeypatch.setattr(module, "predict_skipping_failures", first_collapses)
+    document = run_fragility(
+        family_run[0],
+        limit_states=parse_limit_states("pid=0.0005,0.5"),
+        records=30,
+        model_label="c-physfno-els-params",
+        n_bootstrap=5,
+        progress=False,
+    )
+    assert document["surrogate_collapses"] == {"test": 1, "large": 1, "large-medians": 1}
+    assert document["skipped_records"]["large"]["count"] == 0
+    never = document["limit_states"]["pid > 0.5"]  # only the collapse reaches it
+    assert never["surrogate-large"]["n_records"] == 30
+    assert never["surrogate-large"]["n_exceeded"] == 1
+    written, _ = demand_sample.write_demand_sample(
+        family_run[0], model_label="c-physfno-els-params", out=tmp_path / "d.csv"
+    )
+    assert written.n_collapsed == 1
 
 
 def test_the_dispersion_split_adds_by_the_square_root_of_the_sum_of_squares():

@@ -5,8 +5,11 @@ import numpy as np
 import pytest
 
 from cphysfno_core import ConfigError, CphysfnoError, GroundMotions, InputError
+from cphysfno_core.app.fragility_study import LimitState, surrogate_outcomes
 from cphysfno_core.model.composite import Prediction
 from cphysfno_core.model.skipping import predict_skipping_failures
+from cphysfno_core.plugin import Stories
+from cphysfno_core.reporting.edp import EDPs
 from cphysfno_core.reporting.fragility import Fragility, fit_flags
 from cphysfno_core.reporting.intensity_measures import intensity_measure
 from cphysfno_core.signals.intensity import average_spectral_acceleration, response_spectrum
@@ -47,6 +50,53 @@ def test_prediction_goes_on_past_the_records_that_fail():
     assert none == {} and np.isfinite(clean.displacement).all()
     with pytest.raises(CphysfnoError, match="no record could be predicted"):
         predict_skipping_failures(_Doubling(), GroundMotions(np.full((2, 5), 99.0), 0.01))
+
+
+class _Collapsing(_Doubling):
+    """A model on physics that can collapse: z is NaN for a record that starts at -2 (its
+    prediction too); and as :class:`_Doubling` otherwise."""
+
+    class preprocessor:
+        collapses = True
+
+    def predict_stages(self, motions, params=None):
+        ag = motions.acceleration
+        found = super().predict_stages(motions, params)
+        z = ag[:, :, None].copy()
+        z[ag[:, 0] == -2.0] = np.nan
+        found.mean[ag[:, 0] == -2.0] = np.nan
+        return Prediction(z, found.operator_output, found.mean, found.std, found.acceleration)
+
+
+def test_a_record_whose_physics_collapses_is_flagged_not_failed():
+    ag = np.ones((4, 5))
+    ag[1, 0], ag[3, 0] = -2.0, -1.0
+    responses, failures = predict_skipping_failures(_Collapsing(), GroundMotions(ag, 0.01))
+    assert responses.collapsed.tolist() == [False, True, False, False]
+    assert failures == {3: "the prediction is not finite"}
+    assert np.isnan(responses.displacement[1]).all()
+    assert np.isnan(responses.extras["absolute_acceleration"][1]).all()
+    ag[2, 0] = 99.0  # one record raises: the rest are predicted one by one, flags kept
+    responses, failures = predict_skipping_failures(_Collapsing(), GroundMotions(ag, 0.01))
+    assert responses.collapsed.tolist() == [False, True, False, False]
+    assert sorted(failures) == [2, 3]
+    _Collapsing.preprocessor.collapses = False  # physics that cannot collapse: NaN fails
+    try:
+        responses, failures = predict_skipping_failures(_Collapsing(), GroundMotions(ag, 0.01))
+    finally:
+        _Collapsing.preprocessor.collapses = True
+    assert not responses.collapsed.any() and sorted(failures) == [1, 2, 3]
+
+
+def test_a_collapse_of_the_surrogates_physics_exceeds_every_limit_state():
+    pid = np.array([[0.004, 0.012], [np.nan, np.nan], [0.02, 0.001], [np.nan, np.nan]])
+    demands = EDPs.from_tables({"PID": pid}, Stories.stacked((3.0, 3.0)))
+    collapsed = np.array([False, True, False, False])
+    for threshold, exceeded in ((0.01, [True, True, True]), (0.05, [False, True, False])):
+        state = LimitState("pid", threshold)
+        known, found = surrogate_outcomes(demands, collapsed, state)
+        assert known.tolist() == [True, True, True, False]  # record 3 failed: unknown
+        assert found[known].tolist() == exceeded
 
 
 def test_intensity_measures_by_name():

@@ -11,7 +11,9 @@ from cphysfno_bouc_wen.shear_building import ShearBuilding
 from cphysfno_physics import Stick, StickCalibration, stick_calibration
 from cphysfno_physics.stick_calibration import LAW_SPACES, IndefiniteFloorStiffness
 
+import cphysfno_core as cp
 from cphysfno_core import CapabilityError, ConfigError, CphysfnoWarning, GroundMotions, create
+from cphysfno_core.model.skipping import predict_skipping_failures
 from cphysfno_core.plugin import Stories
 from cphysfno_core.testing import check_preprocessor
 
@@ -275,6 +277,29 @@ def test_a_softening_stick_that_collapses_says_so_and_gives_no_z_there():
         z = stick.transform(motions)
     assert np.isnan(z[0, -1]).all() and np.isfinite(z[0, 0]).all()
     np.testing.assert_allclose(z[1], truth.displacement[1], rtol=1e-3, atol=1e-6)
+
+
+def test_a_record_whose_stick_collapses_is_a_predicted_collapse_not_a_failure():
+    """A composite on a softening stick: the record that collapses its stick comes back
+    flagged ``collapsed`` (NaN), not as a record that could not be predicted."""
+    softening = building(SOFTENING)
+    weak = GroundMotions(0.5 * np.random.default_rng(2).standard_normal((4, 2000)), 0.01)
+    u = softening.simulate(weak).displacement
+    model = cp.compose(
+        structure=softening,
+        preprocessor=Stick(**FAST),
+        operator=("fno", {"layers": 1, "modes": 4, "width": 4}),
+    )
+    model.fit(weak[:3], u[:3], validation=(weak[3:], u[3:]), epochs=1, progress=None)
+    t = np.arange(0.0, 20.0, 0.01)
+    resonant = 30.0 * np.sin(2.0 * np.pi * t / float(softening.periods()[0]))
+    motions = GroundMotions(np.stack([resonant, 0.01 * resonant]), 0.01)
+    with pytest.warns(CphysfnoWarning, match="the stick collapses"):
+        responses, failures = predict_skipping_failures(model, motions)
+    assert failures == {}
+    assert responses.collapsed.tolist() == [True, False]
+    assert np.isnan(responses.displacement[0]).all()
+    assert np.isfinite(responses.displacement[1]).all()
 
 
 def test_a_law_chosen_by_its_dynamic_response_is_the_buildings_own(tmp_path):

@@ -302,10 +302,15 @@ class PhysicsPreprocessor(Component, ABC):
         requires: the structure capabilities :meth:`fit` uses, declared once per class;
             :meth:`check` tests a structure for them (a composite model does when it is
             built, before any simulation or training).
+        collapses: whether the simplified model can collapse (a stick whose story law
+            loses its strength): a record whose z holds NaN is then its prediction of a
+            collapse, which fragility and demand samples count as one, and not a record
+            that could not be predicted. False (the default): NaN in z is a failure.
     """
 
     kind = "preprocessor"
     requires: ClassVar[frozenset[str]] = frozenset()
+    collapses: ClassVar[bool] = False
 
     def check(self, structure: Structure) -> None:
         """Raise :class:`CapabilityError` naming both parties unless ``structure`` provides

@@ -248,6 +248,12 @@ def _fragility(args: argparse.Namespace) -> int:
     for name, found in document["skipped_records"].items():
         if found["count"]:
             print(f"{found['count']} {name} records could not be predicted: left out of the fits")
+    for name, count in document["surrogate_collapses"].items():
+        if count:
+            print(
+                f"{count} {name} records collapse the surrogate's physics: counted as "
+                "exceeding every limit state"
+            )
     sources = ["simulation", "surrogate", "surrogate-large"]
     modelling = document["modelling_uncertainty"]
     if modelling is not None:

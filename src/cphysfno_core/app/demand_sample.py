@@ -3,10 +3,11 @@ pelicun 3 (FEMA P-58) reads.
 
 The records are the run's test records (collapsed ones and those whose analysis did not
 converge below the collapse flagged from the simulation, ``ERROR`` 1 and 2, which pelicun
-drops) or motions from a file; the demands are the EDPs of the chosen model's
-predictions (:mod:`cphysfno_core.reporting.edp`; PFA from the predicted accelerations of a
-model that learns them), written by
-:func:`cphysfno_core.reporting.demands.write_pelicun_demands`.
+drops) or motions from a file; a record whose physics input collapses at prediction (a
+``stick`` whose story law lost its strength) is flagged collapsed (``ERROR`` 1). The
+demands are the EDPs of the chosen model's predictions
+(:mod:`cphysfno_core.reporting.edp`; PFA from the predicted accelerations of a model that
+learns them), written by :func:`cphysfno_core.reporting.demands.write_pelicun_demands`.
 
 For a model of a family of structures, a test record is predicted on its own drawn
 structure; a record from a file on the parameters of a CSV file (``params``) or, without
@@ -81,6 +82,8 @@ def write_demand_sample(
     heights = RecordStories(structure).heights(drawn, len(standing))
     params = drawn if model_takes_draws else None
     responses = predict_skipping_failures(model, motions[standing], params)[0]
+    collapsed = collapsed.copy()
+    collapsed[standing[responses.collapsed]] = True
     predicted = edp.compute(responses, structure, motions[standing], heights=heights)
     demands = predicted.map(lambda values: _spread(values, standing, motions.n_records))
     # the ground's own column, every record's

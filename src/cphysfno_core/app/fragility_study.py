@@ -23,11 +23,14 @@ at its median (``surrogate-large-medians``: record-to-record dispersion alone), 
 limit state's ``dispersion`` splits the total β into the two,
 ``β_modelling = sqrt(β_total² - β_record-to-record²)``.
 
-The surrogate does not predict collapse: its curves combine the probability of collapse,
-fitted against the intensity measure on the simulated records, with the surrogate's
-demands by total probability, ``P(C) + (1 - P(C)) P(exceed | no collapse)``, summarised
-by the lognormal closest to that curve; their intervals are those of the non-collapse
-part.
+The surrogate does not predict the structure's collapse: its curves combine the
+probability of collapse, fitted against the intensity measure on the simulated records,
+with the surrogate's demands by total probability, ``P(C) + (1 - P(C)) P(exceed | no
+collapse)``, summarised by the lognormal closest to that curve; their intervals are those
+of the non-collapse part. A record whose physics input collapses (a stick whose story
+law lost its strength) exceeds every limit state in the surrogate's demands, as a
+simulated collapse does in the simulation's (``surrogate_collapses`` counts them); a
+record whose prediction fails is left out (``skipped_records``).
 """
 
 from __future__ import annotations
@@ -273,8 +276,9 @@ def run_fragility(
     """Fit the fragility curves of a trained run and write ``RUN/fragility/`` (or ``out``):
     ``fragility.json``, ``fragility.png``, ``edp-im.png``.
 
-    A record whose prediction fails (its physics input holds NaN, say) is left out of the
-    fits and counted (``skipped_records``); a limit state that no record reaches (or every
+    A record whose prediction fails is left out of the fits and counted
+    (``skipped_records``); one whose physics input collapses exceeds every limit state
+    (``surrogate_collapses``); a limit state that no record reaches (or every
     record exceeds) gets no curve and a ``note`` while the others are fitted; a fit the
     records may not determine is flagged (``flags``:
     :func:`~cphysfno_core.reporting.fragility.fit_flags`).
@@ -359,9 +363,9 @@ def run_fragility(
         model, family, config, records, motions_file, im, seed, progress, space
     )
     large_seconds = time.perf_counter() - started
-    large_sets = {"surrogate-large": large.demands}
+    large_sets = {"surrogate-large": (large.demands, large.collapsed)}
     if large.median_demands is not None:
-        large_sets["surrogate-large-medians"] = large.median_demands
+        large_sets["surrogate-large-medians"] = (large.median_demands, large.median_collapsed)
 
     rng = np.random.default_rng(seed)
     collapse = None
@@ -386,6 +390,7 @@ def run_fragility(
         if space is None
         else {"parameters": list(space.names), "units": list(space.units)},
         "skipped_records": _skipped_records(test_failures, standing, large),
+        "surrogate_collapses": _surrogate_collapses(responses.collapsed, large),
         "collapse": None
         if collapse is None
         else {"median": collapse.median, "beta": collapse.beta},
@@ -399,7 +404,6 @@ def run_fragility(
         400,
     )
     curves = {}
-    predicted_ok = np.isfinite(predicted.pid).all(axis=1)
     sources = ("simulation", "surrogate", *large_sets)
     for state in limit_states:
         what = f"{state.name} ({measure})"
@@ -407,17 +411,16 @@ def run_fragility(
         simulation = _fit_or_note(
             im_test[counted], simulated[counted], rng, n_bootstrap, what + ", simulation"
         )
+        known, exceeded = surrogate_outcomes(predicted, responses.collapsed, state)
         surrogate = _surrogate_fit(
-            im_test[standing][predicted_ok],
-            demand_values(predicted, state)[predicted_ok] > state.threshold,
+            im_test[standing][known], exceeded[known],
             collapse, grid, rng, n_bootstrap, what + ", surrogate",
         )  # fmt: skip
         fits = {"simulation": simulation, "surrogate": surrogate}
-        for source, demands in large_sets.items():
-            ok = np.isfinite(demands.pid).all(axis=1)
+        for source, (demands, fell) in large_sets.items():
+            known, exceeded = surrogate_outcomes(demands, fell, state)
             fits[source] = _surrogate_fit(
-                large.intensity[ok],
-                demand_values(demands, state)[ok] > state.threshold,
+                large.intensity[known], exceeded[known],
                 collapse, grid, rng, n_bootstrap, f"{what}, {source}",
             )  # fmt: skip
         if "surrogate-large-medians" in fits:
@@ -489,6 +492,27 @@ def dispersion_split(drawn: dict[str, Any], medians: dict[str, Any]) -> dict[str
             "the total β is below the record-to-record β: the modelling dispersion is within "
             "the fits' scatter"
         )
+    return found
+
+
+def surrogate_outcomes(
+    demands: edp.EDPs, collapsed: np.ndarray, state: LimitState
+) -> tuple[np.ndarray, np.ndarray]:
+    """``([n] known, [n] exceeded)`` of the surrogate's records for ``state``: a record
+    whose physics collapsed (``collapsed``) is known and exceeds every limit state, as a
+    collapse in the simulation does; one whose prediction failed (NaN EDPs) is not
+    known."""
+    known = np.isfinite(demands.pid).all(axis=1) | collapsed
+    exceeded = collapsed | (demand_values(demands, state) > state.threshold)
+    return known, exceeded
+
+
+def _surrogate_collapses(test: np.ndarray, large: LargeAnalysis) -> dict[str, int]:
+    """How many records' physics collapsed (counted as exceeding every limit state), in
+    the test records and the large set (and its prediction at the medians)."""
+    found = {"test": int(test.sum()), "large": int(large.collapsed.sum())}
+    if large.median_demands is not None:
+        found["large-medians"] = int(large.median_collapsed.sum())
     return found
 
 
@@ -583,10 +607,13 @@ class LargeAnalysis:
         extrapolated: how many records lie outside the model's training range
             (:func:`outside_training`).
         failures: record index -> why its prediction failed.
+        collapsed: ``[N]`` whether each record's physics collapsed (its EDPs NaN).
         median_demands: for a model of a family whose records drew their parameters, the
             EDPs of the same records predicted with every parameter at its median (None
             otherwise).
         median_failures: record index -> why its prediction at the medians failed.
+        median_collapsed: ``[N]`` whether each record's physics collapsed at the medians
+            (None without ``median_demands``).
     """
 
     intensity: np.ndarray
@@ -594,8 +621,10 @@ class LargeAnalysis:
     distinct: int | None
     extrapolated: int
     failures: dict[int, str]
+    collapsed: np.ndarray
     median_demands: edp.EDPs | None = None
     median_failures: dict[int, str] = field(default_factory=dict)
+    median_collapsed: np.ndarray | None = None
 
 
 def _large_analysis(
@@ -626,7 +655,7 @@ def _large_analysis(
         source = get_registry().create("ground_motion", spec.name, **spec.params)
         rng = np.random.default_rng([seed, 7919])
         n = records
-    intensities, parts, median_parts = [], [], []
+    intensities, parts, median_parts, collapsed, median_collapsed = [], [], [], [], []
     started = time.perf_counter()
     distinct = None
     extrapolated = 0
@@ -647,9 +676,11 @@ def _large_analysis(
             warnings.simplefilter("ignore", ExtrapolationWarning)
             params = None if draws is None else space.columns(draws[start:stop])
             responses, failed = predict_skipping_failures(model, chunk, params)
+            collapsed.append(responses.collapsed)
             if draws is not None:
                 at_medians, failed_at_medians = predict_skipping_failures(model, chunk)
                 median_parts.append(edp.compute(at_medians, family.structure, chunk))
+                median_collapsed.append(at_medians.collapsed)
                 median_failures.update({start + i: why for i, why in failed_at_medians.items()})
         failures.update({start + i: why for i, why in failed.items()})
         heights = family.heights(params, chunk.n_records)
@@ -681,8 +712,10 @@ def _large_analysis(
         distinct,
         extrapolated,
         failures,
+        np.concatenate(collapsed),
         medians,
         median_failures,
+        np.concatenate(median_collapsed) if median_collapsed else None,
     )
 
 

@@ -21,12 +21,15 @@ def predict_skipping_failures(
     structural parameters, for a model of a family (path -> ``[n]`` values).
 
     The records are predicted together; if that fails (the physics input of one record
-    holds NaN, say), one by one. A record whose prediction raises a package error or is
-    not finite gets NaN and is listed with its cause.
+    holds NaN, say), one by one. A record whose physics collapses (a preprocessor that
+    :attr:`~cphysfno_core.plugin.PhysicsPreprocessor.collapses`, whose z holds NaN) gets
+    NaN and is flagged ``collapsed`` in the responses: a predicted collapse, not a
+    failure. Any other record whose prediction raises a package error or is not finite
+    gets NaN and is listed with its cause.
 
     Returns:
         ``(responses, failures)``: ``failures`` maps the index of each failed record in
-        ``motions`` to the reason.
+        ``motions`` to the reason; ``responses.collapsed`` flags the predicted collapses.
     """
     params = per_record(params, motions.n_records)
     try:
@@ -34,13 +37,21 @@ def predict_skipping_failures(
         failures: dict[int, str] = {}
     except CphysfnoError:
         channels, failures = _one_by_one(model, motions, params)
+    collapsed = channels.pop(COLLAPSED)[:, 0, 0] > 0.0
     for values in channels.values():
-        for i in np.flatnonzero(~np.isfinite(values).all(axis=(1, 2))):
+        for i in np.flatnonzero(~np.isfinite(values).all(axis=(1, 2)) & ~collapsed):
             failures.setdefault(int(i), "the prediction is not finite")
     for values in channels.values():
         values[list(failures)] = np.nan
+        values[collapsed] = np.nan
     mean = channels.pop("displacement")
-    return Responses(mean, motions.dt, extras=channels), dict(sorted(failures.items()))
+    responses = Responses(mean, motions.dt, extras=channels, collapsed=collapsed)
+    return responses, dict(sorted(failures.items()))
+
+
+COLLAPSED = "physics collapsed"
+"""The channel, ``[n, 1, 1]`` 1.0 or 0.0, by which :func:`_channels` says which records'
+physics collapsed."""
 
 
 def _channels(
@@ -48,7 +59,12 @@ def _channels(
 ) -> dict[str, np.ndarray]:
     stages = model.predict_stages(motions, params=params)
     found = {"displacement": stages.mean, **stages.extras()}
-    return {name: np.array(values, dtype=np.float64) for name, values in found.items()}
+    channels = {name: np.array(values, dtype=np.float64) for name, values in found.items()}
+    collapsed = np.zeros(motions.n_records)
+    if stages.z is not None and getattr(getattr(model, "preprocessor", None), "collapses", False):
+        collapsed[~np.isfinite(stages.z).all(axis=(1, 2))] = 1.0
+    channels[COLLAPSED] = collapsed[:, None, None]
+    return channels
 
 
 def _one_by_one(

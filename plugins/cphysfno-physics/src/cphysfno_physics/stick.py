@@ -64,6 +64,7 @@ class Stick(PhysicsPreprocessor):
 
     name = "stick"
     requires = frozenset({"pushover", "stories", "equivalent_linear_system"})
+    collapses = True
 
     class Params(plugin.Params):
         target_drift_ratio: DriftRatio = Field(
