@@ -1,5 +1,6 @@
 """The pinching law: one cycle computed by hand, the peak-oriented law as its special case,
-and the law checks over its parameter range."""
+and the law checks over its parameter range; the cracked pinching law: its trilinear
+backbone by hand, the pinching law as its special case, its law checks."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from cphysfno_core import ConfigError, create
 from cphysfno_core.testing import check_story_law
 from cphysfno_core.testing.story_law import cyclic_drift, drive
 
-from cphysfno_bouc_wen.laws import PeakOrientedLaw, PinchingLaw
+from cphysfno_bouc_wen.laws import CrackedPinchingLaw, PeakOrientedLaw, PinchingLaw
 
 K, U_Y, ALPHA = 1.0e7, 0.01, 0.05
 PINCH_X, PINCH_Y, BETA = 0.5, 0.25, 0.5
@@ -121,3 +122,68 @@ def test_per_story_shape_parameters_and_their_bounds() -> None:
     for field in ("pinch_x", "pinch_y", "beta_unload"):
         with pytest.raises(ConfigError, match=field):
             create("story_law", "pinching", yield_displacement=U_Y, **{field: 1.5})
+
+
+CRACKED = {"crack_share": 0.6, "crack_displacement": 0.2 * U_Y}
+
+
+def test_the_cracked_backbone_is_trilinear() -> None:
+    """Monotonic to 3 u_y: ``k`` to ``u_c``, ``(1 - r) k`` to ``u_y``, then
+    ``alpha (1 - r) k``, plus the cracking spring's ``r k u_c``."""
+    law = CrackedPinchingLaw(alpha=ALPHA, yield_displacement=U_Y, **CRACKED)
+    v = np.linspace(0.0, 3.0 * U_Y, 601)
+    force = _loop(law, v)
+    r, u_c = CRACKED["crack_share"], CRACKED["crack_displacement"]
+    cracking = r * K * np.minimum(v, u_c)
+    pinching = (1.0 - r) * K * np.where(v <= U_Y, v, U_Y + ALPHA * (v - U_Y))
+    corners = np.isclose(v, u_c) | np.isclose(v, U_Y)  # the step that ends there errs
+    expected = cracking + pinching
+    np.testing.assert_allclose(force[~corners], expected[~corners], rtol=1e-9, atol=1e-3)
+    np.testing.assert_allclose(force[corners], expected[corners], rtol=5e-5)
+
+
+def test_without_cracking_it_is_the_pinching_law() -> None:
+    path = _path()
+    shape = {"pinch_x": 0.5, "pinch_y": 0.3, "beta_unload": 0.4}
+    pinching = PinchingLaw(alpha=ALPHA, yield_displacement=U_Y, **shape)
+    cracked = CrackedPinchingLaw(
+        alpha=ALPHA, yield_displacement=U_Y, crack_share=0.0, crack_displacement=U_Y, **shape
+    )
+    assert np.array_equal(_loop(pinching, path), _loop(cracked, path))
+
+
+def test_cracking_dissipates_in_cycles_below_yield() -> None:
+    """Three cycles at 0.5 u_y after a first loading: the pinching law alone stays elastic
+    (no loop); the cracking spring's loop encloses ``4 r k u_c (0.5 u_y - u_c)`` a cycle,
+    by hand."""
+    amplitude = 0.5 * U_Y
+    ramp = np.linspace(0.0, amplitude, 201)
+    cycles = amplitude * np.cos(2.0 * np.pi * np.linspace(0.0, 3.0, 2401))
+    path = np.concatenate([ramp, cycles[1:]])
+    steady = slice(len(ramp) - 1, None)
+    elastic = _loop(PinchingLaw(yield_displacement=U_Y), path)
+    assert abs(np.trapezoid(elastic[steady], path[steady])) < 1e-9 * K * U_Y**2
+    force = _loop(CrackedPinchingLaw(yield_displacement=U_Y, **CRACKED), path)
+    r, u_c = CRACKED["crack_share"], CRACKED["crack_displacement"]
+    per_cycle = 4.0 * r * K * u_c * (amplitude - u_c)
+    assert np.trapezoid(force[steady], path[steady]) == pytest.approx(3 * per_cycle, rel=1e-3)
+
+
+@pytest.mark.parametrize("share", [0.3, 0.95])
+def test_the_cracked_pinching_law_passes_the_law_checks(share) -> None:
+    check_story_law(
+        create(
+            "story_law",
+            "cracked-pinching",
+            yield_displacement=U_Y,
+            crack_share=share,
+            crack_displacement=0.1 * U_Y,
+            pinch_y=0.3,
+        )
+    )
+
+
+def test_a_crack_share_that_leaves_the_pinching_spring_nothing_is_refused() -> None:
+    with pytest.raises(ConfigError, match="crack_share"):
+        create("story_law", "cracked-pinching", yield_displacement=U_Y, crack_share=1.0,
+               crack_displacement=0.1 * U_Y)  # fmt: skip

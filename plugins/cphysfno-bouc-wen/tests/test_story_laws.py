@@ -23,6 +23,7 @@ LAWS = {
     "bouc-wen": {},
     "peak-oriented": {"yield_displacement": YIELD},
     "pinching": {"yield_displacement": YIELD},
+    "cracked-pinching": {"yield_displacement": YIELD, "crack_displacement": 0.2 * YIELD},
 }
 
 

@@ -1,5 +1,7 @@
 """The ``pinching`` story law against OpenSees' ``Hysteretic`` material (``pinchX``,
-``pinchY``, no damage, ``beta``) along one cyclic drift history.
+``pinchY``, no damage, ``beta``) along one cyclic drift history, and ``cracked-pinching``
+against ``Hysteretic`` beside an ``ElasticPP`` material (the two in parallel: their
+stresses add).
 
 Where the two differ, and why:
 
@@ -21,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cphysfno_bouc_wen.laws import PinchingLaw
+from cphysfno_bouc_wen.laws import CrackedPinchingLaw, PinchingLaw
 from cphysfno_opensees.uniaxial import uniaxial_stress
 
 from cphysfno_core.testing.story_law import cyclic_drift, drive
@@ -46,8 +48,10 @@ def _history() -> np.ndarray:
     return np.interp(np.arange(2 * len(path) - 1) / 2.0, np.arange(len(path)), path)
 
 
-def _opensees(pinch_x: float, pinch_y: float, beta: float, path: np.ndarray) -> np.ndarray:
-    fy, strength = K * U_Y, K * U_Y + ALPHA * K * (FAR - U_Y)
+def _opensees(
+    pinch_x: float, pinch_y: float, beta: float, path: np.ndarray, k: float = K
+) -> np.ndarray:
+    fy, strength = k * U_Y, k * U_Y + ALPHA * k * (FAR - U_Y)
     backbone = [fy, U_Y, strength, FAR, -fy, -U_Y, -strength, -FAR]
     return uniaxial_stress(
         ["Hysteretic", 1, *backbone, pinch_x, pinch_y, 0.0, 0.0, beta], path
@@ -90,3 +94,21 @@ def test_pinching_follows_opensees_up_to_its_jump_to_zero_force(history) -> None
     assert np.max(np.abs(loop[before] - reference[before])) < 2e-3 * np.max(np.abs(reference))
     assert np.all(np.isfinite(loop))
     assert np.max(np.abs(loop)) <= np.max(np.abs(reference)) * (1.0 + 1e-3)
+
+
+@pytest.mark.parametrize(("share", "cracking"), [(0.4, 0.1 * U_Y), (0.8, 0.5 * U_Y)])
+def test_cracked_pinching_follows_opensees_hysteretic_beside_elastic_pp(share, cracking, history):
+    pinch_x, pinch_y, beta = 0.5, 0.3, 0.4
+    reference = _opensees(pinch_x, pinch_y, beta, history, k=(1.0 - share) * K)
+    reference += uniaxial_stress(["ElasticPP", 1, share * K, cracking], history)
+    law = CrackedPinchingLaw(
+        alpha=ALPHA,
+        yield_displacement=U_Y,
+        pinch_x=pinch_x,
+        pinch_y=pinch_y,
+        beta_unload=beta,
+        crack_share=share,
+        crack_displacement=cracking,
+    )
+    loop = drive(law.functions(), law.n_states, law.coefficients(np.array([K]))[0], history)
+    assert np.max(np.abs(loop - reference)) < 1e-3 * np.max(np.abs(reference))

@@ -9,7 +9,11 @@ import numpy as np
 import pytest
 from cphysfno_bouc_wen.shear_building import ShearBuilding
 from cphysfno_physics import Stick, StickCalibration, stick_calibration
-from cphysfno_physics.stick_calibration import LAW_SPACES, IndefiniteFloorStiffness
+from cphysfno_physics.stick_calibration import (
+    LAW_SPACES,
+    IndefiniteFloorStiffness,
+    first_within_tie,
+)
 
 import cphysfno_core as cp
 from cphysfno_core import CapabilityError, ConfigError, CphysfnoWarning, GroundMotions, create
@@ -348,15 +352,36 @@ PINCHING = {
 }
 
 
-def test_pinching_laws_are_found_and_chosen():
-    calibration = Stick(**FAST).fit(building(PINCHING)).calibration_
-    assert calibration.law == "pinching"
-    found = calibration.fits["pinching"].parameters
-    for key, value in PINCHING.items():
+CRACKED_PINCHING = {
+    **PINCHING,
+    "name": "cracked-pinching",
+    "crack_share": 0.4,
+    "crack_displacement": (0.002, 0.0025, 0.003),
+}
+
+
+@pytest.mark.parametrize(
+    ("law", "simpler"),
+    [(PINCHING, "peak-oriented"), (CRACKED_PINCHING, "pinching")],
+    ids=["pinching", "cracked-pinching"],
+)
+def test_pinching_laws_are_found_and_chosen(law, simpler):
+    name = law["name"]
+    calibration = Stick(**FAST).fit(building(law)).calibration_
+    assert calibration.law == name
+    found = calibration.fits[name].parameters
+    for key, value in law.items():
         if key != "name":
             assert np.allclose(found[key], value, rtol=1e-3), key
-    # a peak-oriented law (no pinching, unloading at k) cannot follow the pinched loops
-    assert min(calibration.fits["peak-oriented"].errors) > 1e-2
+    # a simpler law cannot follow the loops: no pinching (peak-oriented), no cracking
+    assert min(calibration.fits[simpler].errors) > 1e-2
+
+
+def test_a_tie_goes_to_the_law_listed_first():
+    # 0.0995 is within 1 % plus 1e-3 of 0.100: a tie, which the first listed takes
+    assert first_within_tie({"pinching": 0.100, "cracked-pinching": 0.0995}) == "pinching"
+    assert first_within_tie({"pinching": 0.100, "cracked-pinching": 0.090}) == "cracked-pinching"
+    assert first_within_tie({(1, "a"): 0.3, (0, "b"): 0.3}) == (1, "a")
 
 
 def test_a_saved_stick_is_restored_without_pushing_the_structure_again(

@@ -21,6 +21,7 @@ from .stick_calibration import (
     IndefiniteFloorStiffness,
     StickCalibration,
     calibrate,
+    first_within_tie,
     warn_where_off,
 )
 from .stick_figures import write_stick_artifacts
@@ -253,19 +254,18 @@ class Stick(PhysicsPreprocessor):
 def _dynamic_choice(
     candidates: list[StickCalibration], errors: list[dict[str, float]]
 ) -> StickCalibration:
-    """The candidate and law of the lowest probe error, with every candidate's errors
-    (``"<law>"`` with the coupling, ``"<law> (springs alone)"`` without, where both were
-    fitted)."""
+    """The candidate and law of the lowest probe error (a tie, :func:`first_within_tie`,
+    to the candidate and law listed first), with every candidate's errors (``"<law>"``
+    with the coupling, ``"<law> (springs alone)"`` without, where both were fitted)."""
     both = len({c.coupling is None for c in candidates}) > 1
-    labelled, best = {}, None
-    for calibration, found in zip(candidates, errors, strict=True):
+    labelled, by_pair = {}, {}
+    for index, (calibration, found) in enumerate(zip(candidates, errors, strict=True)):
         suffix = " (springs alone)" if both and calibration.coupling is None else ""
         for law, error in found.items():
             labelled[law + suffix] = error
-            if best is None or error < best[0]:
-                best = (error, calibration, law)
-    _, calibration, law = best
-    return dataclasses.replace(calibration, law=law, dynamic_errors=labelled)
+            by_pair[index, law] = error
+    index, law = first_within_tie(by_pair)
+    return dataclasses.replace(candidates[index], law=law, dynamic_errors=labelled)
 
 
 def _floors(stories: Stories, n_outputs: int, name: str) -> np.ndarray:

@@ -22,7 +22,7 @@ floor-condensed structure's and its pushover is still the structure's.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -130,6 +130,17 @@ def _pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, flo
     }
 
 
+def _cracked_pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, float]:
+    """:func:`_pinching`'s, the share of the initial stiffness lost at cracking and the
+    cracking drift as a share of ``u_y``."""
+    *pinching, crack_share, crack_ratio = shape
+    return {
+        **_pinching(alpha, u_y, pinching),
+        "crack_share": crack_share,
+        "crack_displacement": crack_ratio * u_y,
+    }
+
+
 LAW_SPACES = {
     "bilinear": LawSpace("bilinear", SOFTENING),
     "peak-oriented": LawSpace("peak-oriented"),
@@ -148,8 +159,30 @@ LAW_SPACES = {
         shape_names=("pinch_x", "pinch_y", "beta_unload"),
         parameters=_pinching,
     ),
+    "cracked-pinching": LawSpace(
+        "cracked-pinching",
+        shape_starts=((0.5, 0.3, 0.3, 0.3, 0.2), (0.9, 0.8, 0.0, 0.5, 0.1)),
+        shape_bounds=((0.05, 1.0), (0.05, 1.0), (0.0, 1.0), (0.0, 0.9), (0.02, 0.9)),
+        shape_names=("pinch_x", "pinch_y", "beta_unload", "crack_share", None),
+        parameters=_cracked_pinching,
+    ),
 }
 """The laws the calibration can fit, by name."""
+
+
+TIE = (0.01, 1e-3)
+"""``(relative, absolute)``: errors of two laws closer than ``relative`` times the lower
+plus ``absolute`` (a fit error over the peak shear, a relative L2 under the probes) are a
+tie, which the law listed first (the simpler one) takes."""
+
+
+def first_within_tie(errors: Mapping[Any, float]) -> Any:
+    """The first key of ``errors`` (in order) whose error ties with the lowest
+    (:data:`TIE`): a law that holds another as a special case (``cracked-pinching`` holds
+    ``pinching``) is kept only where it is closer by more than round-off."""
+    relative, absolute = TIE
+    bound = min(errors.values()) * (1.0 + relative) + absolute
+    return next(key for key, error in errors.items() if error <= bound)
 
 
 @dataclass(frozen=True)
@@ -452,7 +485,7 @@ def fit_laws(
     Each law is fitted to the monotonic and the cyclic curves together (:func:`fit_law`)
     from its own :func:`first_guess`. The chosen law has the lowest worst-story error
     (:attr:`LawFit.worst`: RMS shear error over the points of both curves over the
-    story's peak shear on them); a tie goes to the law listed first.
+    story's peak shear on them); a tie (:data:`TIE`) goes to the law listed first.
 
     Returns:
         ``(chosen law's name, every fit by name)``.
@@ -470,7 +503,7 @@ def fit_laws(
         space = LAW_SPACES[name]
         guess = first_guess(backbone, stiffness, space.alpha_bounds[0])
         fits[name] = fit_law(space, (backbone, cyclic), stiffness, guess)
-    chosen = min(laws, key=lambda name: fits[name].worst)
+    chosen = first_within_tie({name: fits[name].worst for name in laws})
     return chosen, fits
 
 
@@ -550,7 +583,8 @@ def calibrate(
     fits = {
         name: LawFit(fit.parameters, calibration.stick_errors(name)) for name, fit in fits.items()
     }
-    return replace(calibration, fits=fits, law=min(laws, key=lambda name: fits[name].worst))
+    law = first_within_tie({name: fits[name].worst for name in laws})
+    return replace(calibration, fits=fits, law=law)
 
 
 def floor_coupling(structure: Structure, stiffness: np.ndarray) -> np.ndarray | None:
