@@ -31,6 +31,7 @@ EXAMPLE_PARAMS = {
     ("story_law", "bilinear"): {"yield_displacement": 0.01},
     ("story_law", "peak-oriented"): {"yield_displacement": 0.01},
     ("story_law", "pinching"): {"yield_displacement": 0.01},
+    ("story_law", "cracked-pinching"): {"yield_displacement": 0.01, "crack_displacement": 0.002},
 }
 """Parameters for the components that have required ones."""
 
