@@ -36,10 +36,12 @@ def peak_oriented_force(c, v, s):
 def unloading_stiffness(c, s, side, beta):
     """Unloading stiffness (N/m) from a force on ``side`` (+1 or -1): ``k (u_y / d)^beta``
     with ``d`` the largest drift (m) reached on that side (at least ``u_y``); ``beta = 0``
-    gives ``k``."""
-    k, u_y = c[0], c[2]
-    largest = u_y + (s[1] if side > 0 else s[2])
-    return k * (u_y / largest) ** beta
+    gives ``k`` (as does a side not yet past yield, without a power)."""
+    past = s[1] if side > 0 else s[2]
+    if past == 0.0 or beta == 0.0:
+        return c[0]
+    u_y = c[2]
+    return c[0] * (u_y / (u_y + past)) ** beta
 
 
 @numba.njit(**LAW_JIT)
