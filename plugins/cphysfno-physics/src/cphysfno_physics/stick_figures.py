@@ -93,8 +93,8 @@ def plot_calibration(calibration: StickCalibration, path: Path) -> Path:
             ax.plot(drift, stick[:, story], color="C1", lw=1.0, ls="--", label="stick")
             ax.set_title(f"story {story + 1}, {'monotonic' if row == 0 else 'cyclic'}", fontsize=9)
             ax.set_xlabel("drift ratio (%)")
-            if story == 0:
-                ax.set_ylabel("story shear (N, or the model's force unit)")
+            ax.locator_params(axis="x", nbins=4)
+    figure.supylabel("story shear (N, or the model's force unit)", fontsize=10)
     axes[0, 0].legend(fontsize=7)
     figure.savefig(path, dpi=120)
     return path
