@@ -152,21 +152,27 @@ def test_without_cracking_it_is_the_pinching_law() -> None:
     assert np.array_equal(_loop(pinching, path), _loop(cracked, path))
 
 
-def test_cracking_dissipates_in_cycles_below_yield() -> None:
-    """Three cycles at 0.5 u_y after a first loading: the pinching law alone stays elastic
-    (no loop); the cracking spring's loop encloses ``4 r k u_c (0.5 u_y - u_c)`` a cycle,
-    by hand."""
+@pytest.mark.parametrize("hysteresis", [0.0, 0.5, 1.0])
+def test_cycles_below_yield_dissipate_in_the_plastic_share_of_cracking(hysteresis) -> None:
+    """Three cycles at 0.5 u_y after a first loading: the pinching spring stays elastic;
+    the cracking spring's elastic-perfectly-plastic share ``h`` encloses
+    ``4 h r k u_c (0.5 u_y - u_c)`` a cycle, by hand, its nonlinear-elastic rest nothing.
+    With ``h = 0`` the force is the trilinear backbone's on the way back as on the way
+    out (``k v`` to ``u_c``, then ``r k u_c + (1 - r) k v``)."""
     amplitude = 0.5 * U_Y
     ramp = np.linspace(0.0, amplitude, 201)
     cycles = amplitude * np.cos(2.0 * np.pi * np.linspace(0.0, 3.0, 2401))
     path = np.concatenate([ramp, cycles[1:]])
     steady = slice(len(ramp) - 1, None)
-    elastic = _loop(PinchingLaw(yield_displacement=U_Y), path)
-    assert abs(np.trapezoid(elastic[steady], path[steady])) < 1e-9 * K * U_Y**2
-    force = _loop(CrackedPinchingLaw(yield_displacement=U_Y, **CRACKED), path)
+    law = CrackedPinchingLaw(yield_displacement=U_Y, crack_hysteresis=hysteresis, **CRACKED)
+    force = _loop(law, path)
     r, u_c = CRACKED["crack_share"], CRACKED["crack_displacement"]
-    per_cycle = 4.0 * r * K * u_c * (amplitude - u_c)
-    assert np.trapezoid(force[steady], path[steady]) == pytest.approx(3 * per_cycle, rel=1e-3)
+    plastic_cycle = 4.0 * r * K * u_c * (amplitude - u_c)
+    area = np.trapezoid(force[steady], path[steady])
+    assert area == pytest.approx(3 * hysteresis * plastic_cycle, abs=1e-3 * plastic_cycle)
+    if hysteresis == 0.0:
+        expected = r * K * np.clip(path, -u_c, u_c) + (1.0 - r) * K * path
+        np.testing.assert_allclose(force, expected, rtol=1e-9, atol=1e-6 * K * U_Y)
 
 
 @pytest.mark.parametrize("share", [0.3, 0.95])

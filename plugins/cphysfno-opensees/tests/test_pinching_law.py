@@ -1,7 +1,7 @@
 """The ``pinching`` story law against OpenSees' ``Hysteretic`` material (``pinchX``,
 ``pinchY``, no damage, ``beta``) along one cyclic drift history, and ``cracked-pinching``
-against ``Hysteretic`` beside an ``ElasticPP`` material (the two in parallel: their
-stresses add).
+against ``Hysteretic`` beside ``ElasticPP`` and ``ElasticMultiLinear`` materials (in
+parallel: their stresses add).
 
 Where the two differ, and why:
 
@@ -96,11 +96,27 @@ def test_pinching_follows_opensees_up_to_its_jump_to_zero_force(history) -> None
     assert np.max(np.abs(loop)) <= np.max(np.abs(reference)) * (1.0 + 1e-3)
 
 
-@pytest.mark.parametrize(("share", "cracking"), [(0.4, 0.1 * U_Y), (0.8, 0.5 * U_Y)])
-def test_cracked_pinching_follows_opensees_hysteretic_beside_elastic_pp(share, cracking, history):
+@pytest.mark.parametrize(
+    ("share", "cracking", "hysteresis"),
+    [(0.4, 0.1 * U_Y, 0.0), (0.8, 0.5 * U_Y, 1.0), (0.6, 0.2 * U_Y, 0.5)],
+)
+def test_cracked_pinching_follows_opensees_hysteretic_beside_its_cracking_materials(
+    share, cracking, hysteresis, history
+):
+    """The cracking spring as ``ElasticPP`` (its elastic-perfectly-plastic share ``h``)
+    beside ``ElasticMultiLinear`` (its nonlinear-elastic rest), in parallel with
+    ``Hysteretic``."""
     pinch_x, pinch_y, beta = 0.5, 0.3, 0.4
     reference = _opensees(pinch_x, pinch_y, beta, history, k=(1.0 - share) * K)
-    reference += uniaxial_stress(["ElasticPP", 1, share * K, cracking], history)
+    plastic, elastic = hysteresis * share * K, (1.0 - hysteresis) * share * K
+    if plastic > 0.0:
+        reference += uniaxial_stress(["ElasticPP", 1, plastic, cracking], history)
+    if elastic > 0.0:
+        top = elastic * cracking
+        strain, stress = (-FAR, -cracking, cracking, FAR), (-top, -top, top, top)
+        reference += uniaxial_stress(
+            ["ElasticMultiLinear", 1, 0.0, "-strain", *strain, "-stress", *stress], history
+        )
     law = CrackedPinchingLaw(
         alpha=ALPHA,
         yield_displacement=U_Y,
@@ -109,6 +125,7 @@ def test_cracked_pinching_follows_opensees_hysteretic_beside_elastic_pp(share, c
         beta_unload=beta,
         crack_share=share,
         crack_displacement=cracking,
+        crack_hysteresis=hysteresis,
     )
     loop = drive(law.functions(), law.n_states, law.coefficients(np.array([K]))[0], history)
     assert np.max(np.abs(loop - reference)) < 1e-3 * np.max(np.abs(reference))

@@ -357,6 +357,7 @@ CRACKED_PINCHING = {
     "name": "cracked-pinching",
     "crack_share": 0.4,
     "crack_displacement": (0.002, 0.0025, 0.003),
+    "crack_hysteresis": 0.5,
 }
 
 

@@ -131,13 +131,14 @@ def _pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, flo
 
 
 def _cracked_pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, float]:
-    """:func:`_pinching`'s, the share of the initial stiffness lost at cracking and the
-    cracking drift as a share of ``u_y``."""
-    *pinching, crack_share, crack_ratio = shape
+    """:func:`_pinching`'s, the share of the initial stiffness lost at cracking, the
+    cracking drift as a share of ``u_y`` and the cracking spring's plastic share."""
+    *pinching, crack_share, crack_ratio, crack_hysteresis = shape
     return {
         **_pinching(alpha, u_y, pinching),
         "crack_share": crack_share,
         "crack_displacement": crack_ratio * u_y,
+        "crack_hysteresis": crack_hysteresis,
     }
 
 
@@ -161,9 +162,23 @@ LAW_SPACES = {
     ),
     "cracked-pinching": LawSpace(
         "cracked-pinching",
-        shape_starts=((0.5, 0.3, 0.3, 0.3, 0.2), (0.9, 0.8, 0.0, 0.5, 0.1)),
-        shape_bounds=((0.05, 1.0), (0.05, 1.0), (0.0, 1.0), (0.0, 0.9), (0.02, 0.9)),
-        shape_names=("pinch_x", "pinch_y", "beta_unload", "crack_share", None),
+        shape_starts=((0.5, 0.3, 0.3, 0.3, 0.2, 0.0), (0.9, 0.8, 0.0, 0.5, 0.1, 1.0)),
+        shape_bounds=(
+            (0.05, 1.0),
+            (0.05, 1.0),
+            (0.0, 1.0),
+            (0.0, 0.9),
+            (0.02, 0.9),
+            (0.0, 1.0),
+        ),
+        shape_names=(
+            "pinch_x",
+            "pinch_y",
+            "beta_unload",
+            "crack_share",
+            None,
+            "crack_hysteresis",
+        ),
         parameters=_cracked_pinching,
     ),
 }
