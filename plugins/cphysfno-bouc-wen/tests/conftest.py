@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import scipy.integrate
 import scipy.linalg
+import scipy.signal
 
 MASS = 3.0e4
 STIFFNESS = np.array([7.5e7, 7.0e7, 6.0e7, 4.5e7, 2.5e7])
@@ -118,6 +119,24 @@ def solve_piecewise(
         y = solution.y[:, -1]
         out[i + 1] = y
     return out
+
+
+def elastic_response(ag: np.ndarray, dt: float, matrices) -> np.ndarray:
+    """``[n, T, d]`` the exact linear response (scipy.signal.lsim, the ground acceleration
+    linear between samples) of the building of ``matrices`` (mass, stiffness, damping)."""
+    mass, stiffness, damping = matrices
+    inverse_mass = np.linalg.inv(mass)
+    d = len(mass)
+    system = scipy.signal.StateSpace(
+        np.block(
+            [[np.zeros((d, d)), np.eye(d)], [-inverse_mass @ stiffness, -inverse_mass @ damping]]
+        ),
+        np.concatenate([np.zeros(d), -np.ones(d)])[:, None],
+        np.hstack([np.eye(d), np.zeros((d, d))]),
+        np.zeros((d, 1)),
+    )
+    t = np.arange(ag.shape[1]) * dt
+    return np.stack([scipy.signal.lsim(system, record, t)[1] for record in ag])
 
 
 def relative_l2(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:

@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.linalg
-import scipy.signal
 from cphysfno_core import GroundMotions
 
 from cphysfno_bouc_wen import BoucWenShearBuilding
+
+from .conftest import elastic_response
 
 DESIGN_PERIODS = [0.487, 0.199, 0.126, 0.092, 0.073]
 
@@ -37,19 +38,7 @@ def test_linear_system_matches_independent_matrices(matrices) -> None:
 @pytest.mark.parametrize("dt", [0.01, 0.02])
 def test_small_amplitude_response_is_the_elastic_one(white_noise, matrices, rel_l2, dt) -> None:
     ag = 1e-4 * white_noise(2, seed=5, dt=dt, duration=10.0)
-    mass, stiffness, damping = matrices
-    inverse_mass = np.linalg.inv(mass)
-    d = len(mass)
-    state_space = scipy.signal.StateSpace(
-        np.block(
-            [[np.zeros((d, d)), np.eye(d)], [-inverse_mass @ stiffness, -inverse_mass @ damping]]
-        ),
-        np.concatenate([np.zeros(d), -np.ones(d)])[:, None],
-        np.hstack([np.eye(d), np.zeros((d, d))]),
-        np.zeros((d, 1)),
-    )
-    t = np.arange(ag.shape[1]) * dt
-    elastic = np.stack([scipy.signal.lsim(state_space, record, t)[1] for record in ag])
+    elastic = elastic_response(ag, dt, matrices)
     building = BoucWenShearBuilding()
     motions = GroundMotions(ag, dt)
     fine = rel_l2(building.simulate(motions).displacement, elastic)

@@ -9,6 +9,7 @@ story. The ground acceleration is linear between its samples.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import cache
 
 import numba
@@ -32,6 +33,7 @@ def integrate_chain(
     dt: float,
     substeps: int,
     initial_state: np.ndarray | None = None,
+    scheme: Callable[[LawFunctions, int], Callable] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Response of a building at rest at t = 0 to ground accelerations.
 
@@ -41,8 +43,12 @@ def integrate_chain(
         n_states: state variables per story.
         ground_acceleration: ``[n, T]`` a_g in m/s^2, sampled every ``dt`` s.
         dt: sample spacing in s.
-        substeps: Runge-Kutta steps per sample interval.
+        substeps: integration steps per sample interval.
         initial_state: ``[d, n_states]`` law state at rest (default zeros).
+        scheme: the factory of the compiled integrator, ``(functions, n_states) ->
+            kernel`` (:func:`rk4_kernel`, the default, or
+            :func:`~.central_difference.central_difference_kernel`); ``substeps`` are its
+            steps per sample interval.
 
     Returns:
         Floor displacements, story drifts (m) and story shears (N), each ``[n, T, d]``,
@@ -55,14 +61,14 @@ def integrate_chain(
         initial_state = np.zeros((d, n_states))
     displacement, drift, shear = (np.empty((n_records, n_steps, d)) for _ in range(3))
     finite = np.empty(n_records, dtype=np.bool_)
-    kernel = rk4_kernel(functions, n_states)
+    kernel = (scheme or rk4_kernel)(functions, n_states)
     arrays = tuple(np.ascontiguousarray(a, dtype=np.float64) for a in chain)
     start = np.ascontiguousarray(initial_state, dtype=np.float64).reshape(d, n_states)
 
     def run(rows: slice) -> None:
         kernel(
             ag[rows],
-            *arrays,
+            arrays,
             start,
             dt / substeps,
             substeps,
@@ -88,7 +94,11 @@ def story_value(shapes, y, s, offset):
 
 @cache
 def rk4_kernel(functions: LawFunctions, n_states: int):
-    """The compiled integrator of a building whose stories follow ``functions``."""
+    """The compiled integrator of a building whose stories follow ``functions``:
+    ``kernel(ag, chain, start, h, substeps, disp_out, drift_out, shear_out, finite_out)``
+    with ``chain`` the arrays of a :class:`~.chain.StoryChain` in its order, ``h`` the
+    step (s), ``substeps`` steps a sample, the outputs as :func:`integrate_chain` returns
+    them."""
     force, rate, settle = functions
     width = max(n_states, 1)
 
@@ -124,23 +134,8 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
             shear_out[k, s] = force(coef[s], v, y[2 * r + s * width : 2 * r + (s + 1) * width])
 
     @numba.njit(**FAST)
-    def kernel(
-        ag,
-        damping,
-        coupling,
-        force_map,
-        drift_map,
-        part,
-        floors,
-        coef,
-        start,
-        h,
-        substeps,
-        disp_out,
-        drift_out,
-        shear_out,
-        finite_out,
-    ):
+    def kernel(ag, chain, start, h, substeps, disp_out, drift_out, shear_out, finite_out):
+        damping, coupling, force_map, drift_map, part, floors, coef = chain
         n_records, n_steps = ag.shape
         r, d = part.shape[0], drift_map.shape[0]
         size = 2 * r + d * width

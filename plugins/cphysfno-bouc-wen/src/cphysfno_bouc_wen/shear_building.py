@@ -28,9 +28,10 @@ from cphysfno_core.signals import (
 )
 from pydantic import Field, field_validator, model_validator
 
+from .central_difference import central_difference_kernel
 from .chain import StoryChain, project_chain
 from .explicit import integrate_rk4
-from .generic import integrate_chain, story_test_kernel
+from .generic import integrate_chain, rk4_kernel, story_test_kernel
 from .implicit import StepFailure, integrate_gauss
 from .law_force import StoryLawRestoringForce
 from .laws import BoucWenLaw
@@ -51,9 +52,14 @@ AUTOMATIC_RETRIES = (4, 4)
 """Where the automatic step diverges on a record, it is integrated again with this many
 times more steps, twice (16 times in all), before the integration is said to diverge."""
 
-MAX_STEP_ANGLE = 0.45
-"""Largest ``omega_max h`` (rad) of an automatically chosen Runge-Kutta step ``h``: the
-relative L2 error stays near 1e-4 (2e-4 to 3e-4 where the stories yield)."""
+MAX_STEP_ANGLE = {"runge-kutta": 0.45, "central-difference": 1.0}
+"""Largest ``omega_max h`` (rad) of an automatically chosen step ``h`` of each integrator.
+Runge-Kutta: the relative L2 error stays near 1e-4 (2e-4 to 3e-4 where the stories
+yield). Central difference (stable below 2): the shortest period is about 4 % short, the
+first ones far less (tests/test_central_difference.py measures the error)."""
+
+SCHEMES = {"runge-kutta": rk4_kernel, "central-difference": central_difference_kernel}
+"""The compiled integrator of each ``integrator``, for any story law."""
 
 
 class ShearBuildingParams(Params):
@@ -82,13 +88,19 @@ class ShearBuildingParams(Params):
         "the story springs' forces: what a frame's flexure adds to its stories' shear "
         "springs (the stick's); None: none",
     )
+    integrator: Literal["runge-kutta", "central-difference"] = Field(
+        "runge-kutta",
+        description="'runge-kutta': classical fourth order, four evaluations of the story "
+        "laws a step; 'central-difference': explicit Newmark, second order, one evaluation "
+        "a step (several times faster, less accurate in the highest modes)",
+    )
     substeps: int | None = Field(
         None,
         ge=1,
         le=1000,
-        description="Runge-Kutta steps per sample of the motion; None keeps "
-        "omega_max h <= 0.45 rad and integrates a record that diverges again with 4, then "
-        "16 times more steps",
+        description="integration steps per sample of the motion; None keeps "
+        "omega_max h <= 0.45 rad (runge-kutta) or 1 rad (central-difference) and "
+        "integrates a record that diverges again with 4, then 16 times more steps",
     )
     precision: Literal["float32", "float64"] = Field(
         "float64",
@@ -224,6 +236,11 @@ class ShearBuilding(Structure):
         """The two modes of Rayleigh damping, or ``None`` for classical damping."""
         return self.params.rayleigh_modes
 
+    @property
+    def integrator(self) -> str:
+        """``"runge-kutta"`` or ``"central-difference"``: the scheme on the motion's grid."""
+        return self.params.integrator
+
     @cached_property
     def law_coefficients(self) -> np.ndarray:
         """``[d, n_c]`` the law's coefficients of each story."""
@@ -264,7 +281,11 @@ class ShearBuilding(Structure):
     def _bouc_wen_model(self) -> ShearBuildingModel | None:
         """The model of the dedicated kernel, for a uniform ``bouc-wen`` law; else None."""
         law = self.story_law
-        if not (isinstance(law, BoucWenLaw) and law.uniform()) or self.coupling.any():
+        if (
+            not (isinstance(law, BoucWenLaw) and law.uniform())
+            or self.coupling.any()
+            or self.integrator != "runge-kutta"
+        ):
             return None
         k, alpha, a, beta, gamma, exponent = self.law_coefficients[0]
         mass, _, damping = self._matrices
@@ -354,7 +375,8 @@ class ShearBuilding(Structure):
         automatic = substeps is None
         if automatic:
             omega_max = 2.0 * np.pi / self.periods()[-1]
-            substeps = max(1, math.ceil(omega_max * motions.dt / MAX_STEP_ANGLE))
+            angle = MAX_STEP_ANGLE[self.integrator]
+            substeps = max(1, math.ceil(omega_max * motions.dt / angle))
         displacement, drift, shear, finite = self._kernel(motions, basis, substeps)
         for factor in AUTOMATIC_RETRIES if automatic and not self.softens else ():
             if finite.all():
@@ -370,7 +392,7 @@ class ShearBuilding(Structure):
         extras = {"story_drift": drift, "story_shear": shear}
         if not finite.all() and not self.softens:
             raise CphysfnoError(
-                f"{self.name}: the Runge-Kutta integration diverged for record "
+                f"{self.name}: the {self.integrator} integration diverged for record "
                 f"{int(np.argmin(finite))}: its step dt/substeps = "
                 f"{motions.dt / substeps:.3g} s is too long for the shortest period "
                 f"{self.periods()[-1]:.3g} s; raise substeps"
@@ -403,6 +425,7 @@ class ShearBuilding(Structure):
             motions.acceleration,
             motions.dt,
             substeps,
+            scheme=SCHEMES[self.integrator],
         )
 
     @cached_property

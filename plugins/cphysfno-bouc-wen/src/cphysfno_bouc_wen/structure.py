@@ -100,6 +100,11 @@ class BoucWenShearBuilding(ShearBuilding):
         return None
 
     @property
+    def integrator(self) -> str:
+        """Classical Runge-Kutta, on the dedicated kernel."""
+        return "runge-kutta"
+
+    @property
     def coupling(self) -> np.ndarray:
         """No stiffness between the floors beside the story springs: zeros."""
         return np.zeros((self.n_stories, self.n_stories))

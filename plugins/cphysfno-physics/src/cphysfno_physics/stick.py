@@ -25,7 +25,7 @@ from .stick_calibration import (
     warn_where_off,
 )
 from .stick_figures import write_stick_artifacts
-from .stick_probes import dynamic_errors
+from .stick_probes import INTEGRATOR_TOLERANCE, dynamic_errors, integrator_error
 
 DriftRatio = Annotated[float, Field(gt=0.0, le=0.2)]
 
@@ -48,7 +48,9 @@ class Stick(PhysicsPreprocessor):
     whose stick is closest to the structure itself under three resonant probe pulses
     (:mod:`~cphysfno_physics.stick_probes`; the structure is analysed on them once), else
     the one that fits the pushovers best. :meth:`transform` simulates that building on its
-    compiled kernel; the structure is not called again.
+    compiled kernel, by default on central difference where that stays within
+    :data:`~.stick_probes.INTEGRATOR_TOLERANCE` of Runge-Kutta under the probe pulses
+    (``integrator``); the structure is not called again.
 
     The stick has one degree of freedom a floor: it cannot follow torsion, strong higher
     modes or a building whose stories do not behave as shear springs (a soft first story
@@ -105,6 +107,14 @@ class Stick(PhysicsPreprocessor):
             "springs alone (a plain shear building, whose higher periods are longer than a "
             "frame's); 'choose': fit both and keep the one law_choice ranks first",
         )
+        integrator: Literal["choose", "runge-kutta", "central-difference"] = Field(
+            "choose",
+            description="the stick's integrator: 'central-difference' (one evaluation of "
+            "the story laws a step, several times faster), 'runge-kutta' (classical fourth "
+            "order), or 'choose': central difference where the stick's response to the "
+            f"probe pulses on it is within {INTEGRATOR_TOLERANCE} (relative L2) of the "
+            "Runge-Kutta one, else Runge-Kutta",
+        )
         tolerance: float = Field(
             0.1,
             gt=0.0,
@@ -150,6 +160,7 @@ class Stick(PhysicsPreprocessor):
             errors = dynamic_errors(structure, candidates, floors, amplitudes)
             if errors is not None:
                 calibration = _dynamic_choice(candidates, errors)
+        calibration = _integrated(calibration, p.integrator, sorted(p.cycle_amplitudes)[-3:])
         warn_where_off(structure, calibration, p.tolerance)
         return self._built(calibration, floors)
 
@@ -180,8 +191,8 @@ class Stick(PhysicsPreprocessor):
         return {"stick": self.stick_.get_params(), "floors": self.floors_.tolist()}
 
     def refit_params(self) -> dict[str, Any]:
-        """These parameters with ``laws`` the law this stick chose: every member of a
-        family gets the same law."""
+        """These parameters with ``laws`` the law, coupling and integrator this stick
+        chose: every member of a family gets the same."""
         check_fitted(self, "stick_")
         params = self.stick_.get_params()
         chosen = params["story_law"]["name"]
@@ -191,6 +202,7 @@ class Stick(PhysicsPreprocessor):
             "laws": [chosen],
             "law_choice": "pushover",
             "coupling": coupling,
+            "integrator": params["integrator"],
         }
 
     def calibrated(self, structure: Structure, calibration: dict[str, Any]) -> Stick:
@@ -266,6 +278,19 @@ def _dynamic_choice(
             by_pair[index, law] = error
     index, law = first_within_tie(by_pair)
     return dataclasses.replace(candidates[index], law=law, dynamic_errors=labelled)
+
+
+def _integrated(
+    calibration: StickCalibration, integrator: str, amplitudes: list[float]
+) -> StickCalibration:
+    """The calibration on ``integrator``; for ``"choose"``, on central difference where
+    :func:`~.stick_probes.integrator_error` is within :data:`INTEGRATOR_TOLERANCE`, else on
+    Runge-Kutta, with that error."""
+    if integrator != "choose":
+        return dataclasses.replace(calibration, integrator=integrator)
+    error = integrator_error(calibration, amplitudes)
+    chosen = "central-difference" if error <= INTEGRATOR_TOLERANCE else "runge-kutta"
+    return dataclasses.replace(calibration, integrator=chosen, integrator_error=error)
 
 
 def _floors(stories: Stories, n_outputs: int, name: str) -> np.ndarray:

@@ -246,6 +246,10 @@ class StickCalibration:
         coupling: ``[d, d]`` the linear stiffness between the floors beside the springs
             (N/m; the structure's floor stiffness less the springs' initial one), or None
             for springs alone.
+        integrator: the ``shear-building`` integrator of the stick.
+        integrator_error: the relative L2 of the stick on central difference against
+            the same stick on Runge-Kutta under the probe pulses, where the integrator was
+            chosen by it, else None.
     """
 
     backbone: StoryPushover
@@ -260,6 +264,8 @@ class StickCalibration:
     fits: dict[str, LawFit]
     dynamic_errors: dict[str, float] | None = None
     coupling: np.ndarray | None = None
+    integrator: str = "runge-kutta"
+    integrator_error: float | None = None
 
     def story_law(self) -> dict[str, Any]:
         """The chosen law as a ``shear-building``'s ``story_law``: its name and one value
@@ -279,6 +285,7 @@ class StickCalibration:
             "coupling": None
             if self.coupling is None
             else tuple(tuple(row) for row in self.coupling.tolist()),
+            "integrator": self.integrator,
         }
 
     def building(self, law: str | None = None) -> Structure:
@@ -323,6 +330,8 @@ class StickCalibration:
             },
             "dynamic_errors": self.dynamic_errors,
             "coupling": None if self.coupling is None else self.coupling.tolist(),
+            "integrator": self.integrator,
+            "integrator_error": self.integrator_error,
         }
 
     @classmethod
@@ -347,6 +356,8 @@ class StickCalibration:
             coupling=None
             if document.get("coupling") is None
             else np.asarray(document["coupling"], dtype=np.float64),
+            integrator=document.get("integrator", "runge-kutta"),
+            integrator_error=document.get("integrator_error"),
         )
 
 

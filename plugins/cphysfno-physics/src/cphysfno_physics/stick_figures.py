@@ -65,6 +65,13 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
             "The law was chosen by its response to three probe pulses at the structure's "
             f"first period (relative L2 of each law's stick against the structure: {errors}).",
         ]
+    if calibration.integrator_error is not None:
+        lines += [
+            "",
+            f"Integrator: `{calibration.integrator}` (the stick on central difference is "
+            f"{calibration.integrator_error:.4f} from itself on Runge-Kutta under the probe "
+            "pulses, relative L2).",
+        ]
     if chosen.worst > FIT_WARNING:
         lines += [
             "",

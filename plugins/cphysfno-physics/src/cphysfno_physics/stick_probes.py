@@ -1,6 +1,7 @@
 """The stick's law chosen by its dynamic response: probe pulses that drive the structure
 itself through the drifts of the cyclic pushover, and each candidate law's stick against
-the structure's response to them.
+the structure's response to them. The same pulses tell whether the stick may run on the
+central-difference integrator (:func:`integrator_error`).
 
 A law's fit to the pushovers is static: two laws that fit the story curves about as well
 can part once the structure vibrates through them (on the two-story IMK frame the
@@ -15,6 +16,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -28,6 +30,11 @@ PROBE_SAMPLES_PER_PERIOD = 50
 
 SCALE_HALVINGS = 30
 """Bisection steps on each probe's scale (in its logarithm)."""
+
+INTEGRATOR_TOLERANCE = 0.02
+"""Largest :func:`integrator_error` at which the stick runs on central difference: a
+fifteenth of the stick's own error against the structure on the RC frame of
+examples/rc-frame.toml (benchmarks/RESULTS.md)."""
 
 
 def probe_shape(period: float) -> GroundMotions:
@@ -111,3 +118,23 @@ def dynamic_errors(
             errors[law] = error if np.isfinite(error) else float("inf")
         found.append(errors)
     return found
+
+
+def integrator_error(calibration: StickCalibration, amplitudes: Sequence[float]) -> float:
+    """The relative L2 (over probes, samples and floors) of the stick of ``calibration``
+    on ``central-difference`` against the same stick on ``runge-kutta`` under the probe
+    pulses of :func:`probe_motions` (inf where a probe collapses one of them and not the
+    other). No call into the structure."""
+    motions = probe_motions(calibration, amplitudes)
+    runs = []
+    for integrator in ("runge-kutta", "central-difference"):
+        stick = replace(calibration, integrator=integrator).building()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", CphysfnoWarning)
+            runs.append(stick.simulate(motions).displacement)
+    reference, central = runs
+    finite = np.isfinite(reference)
+    if not np.array_equal(finite, np.isfinite(central)):
+        return float("inf")
+    difference = central[finite] - reference[finite]
+    return float(np.sqrt(np.sum(difference**2) / np.sum(reference[finite] ** 2)))
