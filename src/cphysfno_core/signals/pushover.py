@@ -209,8 +209,9 @@ def coupling_story_shear(coupling: np.ndarray, drift: np.ndarray) -> np.ndarray:
     floor forces ``K_c u`` (``coupling [d, d]`` in N/m, ``u`` the floors' displacements,
     the running sum of the story ``drift [..., d]``, m) summed over each story's floors
     above."""
-    forces = np.cumsum(np.asarray(drift, dtype=np.float64), axis=-1) @ coupling
-    return np.flip(np.cumsum(np.flip(forces, axis=-1), axis=-1), axis=-1)
+    coupling = np.asarray(coupling, dtype=np.float64)
+    below = np.tril(np.ones_like(coupling))  # [i, j] = 1 where floor j is at or below i
+    return np.asarray(drift, dtype=np.float64) @ (below.T @ coupling @ below)
 
 
 def lateral_pattern(pattern: Sequence[float] | np.ndarray, n_floors: int) -> np.ndarray:

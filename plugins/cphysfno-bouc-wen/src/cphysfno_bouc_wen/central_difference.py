@@ -40,35 +40,34 @@ def central_difference_kernel(functions: LawFunctions, n_states: int):
     smooth = settle is no_settling
 
     @numba.njit(**FAST)
-    def accelerations(q, velocity, ag_now, chain, solve, shear, load, out):
-        """``out = (I + h/2 C)^-1 (-p a_g - C w - K q - B F)``, ``solve`` the inverse
-        (``load`` a buffer of ``r`` values)."""
-        damping, coupling, force_map, _, part, _, _ = chain
+    def accelerations(q, velocity, ag_now, solved, coupled, shear, out):
+        """``out = (I + h/2 C)^-1 (-p a_g - C w - K q - B F)``, ``solved`` the products
+        of that inverse with ``(p, C, K, B)``; ``coupled``: ``K`` is not zero."""
+        part, damping, coupling, force_map = solved
         r, d = part.shape[0], shear.shape[0]
         for j in range(r):
             value = -part[j] * ag_now
             for m in range(r):
-                value -= damping[j, m] * velocity[m] + coupling[j, m] * q[m]
+                value -= damping[j, m] * velocity[m]
+            if coupled:
+                for m in range(r):
+                    value -= coupling[j, m] * q[m]
             for s in range(d):
                 value -= force_map[j, s] * shear[s]
-            load[j] = value
-        for j in range(r):
-            value = 0.0
-            for m in range(r):
-                value += solve[j, m] * load[m]
             out[j] = value
 
     @numba.njit(**FAST)
     def kernel(ag, chain, start, h, substeps, disp_out, drift_out, shear_out, finite_out):
-        damping, _, _, drift_map, part, floors, coef = chain
+        damping, coupling, force_map, drift_map, part, floors, coef = chain
         n_records, n_steps = ag.shape
         r, d = part.shape[0], drift_map.shape[0]
         solve = np.linalg.inv(np.eye(r) + 0.5 * h * damping)
+        solved = (solve @ part, solve @ damping, solve @ coupling, solve @ force_map)
+        coupled = np.any(coupling != 0.0)
         q = np.empty(r)
         velocity = np.empty(r)
         predicted = np.empty(r)
         acceleration = np.empty(r)
-        load = np.empty(r)
         states = np.empty((d, width))
         drift = np.empty(d)
         shear = np.empty(d)
@@ -87,7 +86,7 @@ def central_difference_kernel(functions: LawFunctions, n_states: int):
                 disp_out[rec, 0, s] = 0.0
                 drift_out[rec, 0, s] = 0.0
                 shear_out[rec, 0, s] = shear[s]
-            accelerations(q, velocity, ag[rec, 0], chain, solve, shear, load, acceleration)
+            accelerations(q, velocity, ag[rec, 0], solved, coupled, shear, acceleration)
             for k in range(n_steps - 1):
                 a0 = ag[rec, k]
                 slope = (ag[rec, k + 1] - a0) / substeps
@@ -110,7 +109,7 @@ def central_difference_kernel(functions: LawFunctions, n_states: int):
                         drift[s] = v
                         shear[s] = force(coef[s], v, state)
                     ag_now = a0 + slope * (sub + 1)
-                    accelerations(q, predicted, ag_now, chain, solve, shear, load, acceleration)
+                    accelerations(q, predicted, ag_now, solved, coupled, shear, acceleration)
                     for j in range(r):
                         velocity[j] = predicted[j] + 0.5 * h * acceleration[j]
                 for s in range(d):
