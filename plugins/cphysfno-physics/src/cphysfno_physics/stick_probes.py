@@ -32,9 +32,9 @@ SCALE_HALVINGS = 30
 """Bisection steps on each probe's scale (in its logarithm)."""
 
 INTEGRATOR_TOLERANCE = 0.02
-"""Largest :func:`integrator_error` at which the stick runs on central difference: a
-fifteenth of the stick's own error against the structure on the RC frame of
-examples/rc-frame.toml (benchmarks/RESULTS.md)."""
+"""Largest :func:`integrator_error` at which the stick runs on central difference: about a
+twentieth of the stick's own distance from the RC frame of examples/rc-frame.toml (0.39,
+benchmarks/RESULTS.md)."""
 
 
 def probe_shape(period: float) -> GroundMotions:
