@@ -144,7 +144,8 @@ class LongFirstPeriod(ShearBuilding):
 def test_stiffness_is_scaled_to_the_first_period_and_the_others_warn():
     structure = LongFirstPeriod(**building(BILINEAR).get_params())
     with pytest.warns(CphysfnoWarning, match=r"modes \[2, 3\] differ by more than 10%"):
-        stick = Stick(**FAST, laws=("bilinear",), coupling="none").fit(structure)
+        # unrefined: records would show the model's own first period, not the one reported
+        stick = Stick(**FAST, laws=("bilinear",), coupling="none", refine_records=0).fit(structure)
     calibration = stick.calibration_
     assert calibration.coupling is None
     assert calibration.stiffness_scale == pytest.approx(1.0 / 1.44, rel=1e-9)
@@ -180,12 +181,14 @@ def test_a_coupled_stick_is_a_frame_like_building_and_springs_alone_are_not(fram
     motions = GroundMotions(1.6 * motions.acceleration, motions.dt)
     u = frame_like.simulate(motions).displacement
     assert np.abs(np.diff(u, axis=2, prepend=0.0)).max() > 0.012  # past yield
-    coupled = Stick(**FAST, laws=("bilinear",), integrator=EXACT).fit(frame_like)
-    alone = Stick(**FAST, laws=("bilinear",), coupling="none", integrator=EXACT).fit(frame_like)
+    pushed = {**FAST, "laws": ("bilinear",), "integrator": EXACT, "refine_records": 0}
+    coupled = Stick(**pushed).fit(frame_like)
+    alone = Stick(**pushed, coupling="none").fit(frame_like)
     coupled, alone = coupled.transform(motions), alone.transform(motions)
     # the springs take the pushover's slopes and the coupling the rest of the floor
     # stiffness: a bilinear spring plus a linear share is again bilinear, so the stick is
-    # the building itself; springs alone miss its higher modes by 5-12 %
+    # the building itself; springs alone miss its higher modes by 5-12 % (refined on
+    # records, by 2-5 %)
     assert relative_l2(coupled, u).max() < 1e-6
     assert relative_l2(alone, u).min() > 0.04
 
@@ -445,3 +448,53 @@ def test_a_calibration_saved_before_the_integrator_choice_stays_on_runge_kutta(b
     del document["integrator"], document["integrator_error"]
     again = StickCalibration.from_dict(document)
     assert again.shear_building()["integrator"] == EXACT and again.integrator_error is None
+
+
+def test_a_stick_that_is_the_building_is_not_refined(bilinear_stick):
+    """The pushovers found the building's own laws: on the synthetic records nothing is
+    closer by more than a tie, so the stick stays as fitted, and says so."""
+    refinement = bilinear_stick.calibration_.refinement
+    assert refinement["accepted"] is False
+    assert refinement["fitted"] + refinement["held_out"] == refinement["records"] == 12
+    assert refinement["held_out_before"] < 1e-3
+
+
+def test_a_law_that_cannot_be_the_buildings_is_refined_on_records(motions, tmp_path):
+    """Bilinear springs for a Bouc-Wen building: the pushover fit misses the rounded loops;
+    refined on the building's response to synthetic records, the stick is closer to it on
+    the records held out, and on records it never saw (white noise); the refinement is
+    kept with the calibration and shown in the summary."""
+    structure = building(BOUC_WEN, rayleigh_modes=(1, 3), damping_ratio=0.03)
+    alone = Stick(**FAST, laws=("bilinear",), integrator=EXACT, refine_records=0).fit(structure)
+    refined = Stick(**FAST, laws=("bilinear",), integrator=EXACT).fit(structure)
+    refinement = refined.calibration_.refinement
+    assert alone.calibration_.refinement is None
+    assert refinement["accepted"] is True
+    assert refinement["held_out_after"] < refinement["held_out_before"]
+    assert refinement["fitted_after"] < refinement["fitted_before"]
+    u = structure.simulate(motions).displacement
+    before = relative_l2(alone.transform(motions), u).max()
+    assert relative_l2(refined.transform(motions), u).max() < before
+    stiffnesses = refined.stick_.get_params()["stiffnesses"]
+    assert np.array_equal(stiffnesses, refined.calibration_.stiffness)
+    again = StickCalibration.from_dict(json.loads(json.dumps(refined.calibration_.to_dict())))
+    assert again.refinement == refinement
+    refined.write_artifacts(tmp_path)
+    assert "refined on 12 synthetic records" in (tmp_path / "summary.md").read_text()
+
+
+def test_too_few_refinement_records_leave_the_pushover_fit_and_say_so(bilinear_building):
+    with pytest.warns(CphysfnoWarning, match="too few to fit on some and check on the others"):
+        stick = Stick(**FAST, laws=("bilinear",), refine_records=2).fit(bilinear_building)
+    assert stick.calibration_.refinement is None
+
+
+def test_a_bouc_wen_yield_drift_scaled_keeps_its_saturation_at_the_yield_drift():
+    parameters = stick_calibration._bouc_wen(0.1, 0.01, (3.0, 0.3))
+    per_story = {key: [value, value] for key, value in parameters.items()}
+    scaled = LAW_SPACES["bouc-wen"].yield_scaled(per_story, np.array([2.0, 0.5]))
+    assert scaled["yield_displacement"] == pytest.approx([0.02, 0.005])
+    saturation = (np.add(scaled["beta"], scaled["gamma"])) ** (-1.0 / 3.0)
+    assert saturation == pytest.approx([0.02, 0.005])
+    assert np.divide(scaled["beta"], scaled["gamma"]) == pytest.approx([0.3 / 0.7] * 2)
+    assert scaled["alpha"] == per_story["alpha"] and scaled["exponent"] == [3.0, 3.0]

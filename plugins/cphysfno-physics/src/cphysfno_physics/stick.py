@@ -26,6 +26,7 @@ from .stick_calibration import (
 )
 from .stick_figures import write_stick_artifacts
 from .stick_probes import INTEGRATOR_TOLERANCE, dynamic_errors, integrator_error
+from .stick_refinement import refine
 
 DriftRatio = Annotated[float, Field(gt=0.0, le=0.2)]
 
@@ -47,10 +48,13 @@ class Stick(PhysicsPreprocessor):
     fits both forms. The form and law are chosen by ``law_choice``: by default the pair
     whose stick is closest to the structure itself under three resonant probe pulses
     (:mod:`~cphysfno_physics.stick_probes`; the structure is analysed on them once), else
-    the one that fits the pushovers best. :meth:`transform` simulates that building on its
-    compiled kernel, by default on central difference where that stays within
-    :data:`~.stick_probes.INTEGRATOR_TOLERANCE` of Runge-Kutta under the probe pulses
-    (``integrator``); the structure is not called again.
+    the one that fits the pushovers best. With ``refine_records`` the chosen stick's
+    story stiffnesses, yield drifts and post-yield ratios are then refined on the
+    structure's response to that many synthetic records, and kept where records held out
+    of the fit confirm them (:mod:`~cphysfno_physics.stick_refinement`). :meth:`transform`
+    simulates that building on its compiled kernel, by default on central difference
+    where that stays within :data:`~.stick_probes.INTEGRATOR_TOLERANCE` of Runge-Kutta
+    under the probe pulses (``integrator``); the structure is not called again.
 
     The stick has one degree of freedom a floor: it cannot follow torsion, strong higher
     modes or a building whose stories do not behave as shear springs (a soft first story
@@ -107,6 +111,14 @@ class Stick(PhysicsPreprocessor):
             "springs alone (a plain shear building, whose higher periods are longer than a "
             "frame's); 'choose': fit both and keep the one law_choice ranks first",
         )
+        refine_records: int = Field(
+            12,
+            ge=0,
+            description="synthetic records (spectrum-compatible) the structure is analysed "
+            "on to refine each story's stiffness, yield drift and post-yield ratio against "
+            "its response, every third held out to check that the refinement is closer "
+            "(0: the pushover fit alone)",
+        )
         integrator: Literal["choose", "runge-kutta", "central-difference"] = Field(
             "choose",
             description="the stick's integrator: 'central-difference' (one evaluation of "
@@ -155,12 +167,14 @@ class Stick(PhysicsPreprocessor):
             candidates.append(calibrate(structure, backbone, cyclic, p.laws, forms[1]))
         candidates.sort(key=lambda c: c.fits[c.law].worst)  # the pushovers' choice first
         calibration = candidates[0]
+        amplitudes = sorted(p.cycle_amplitudes)[-3:]  # the probes' and refinement's drifts
         if p.law_choice == "dynamic" and sum(len(c.fits) for c in candidates) > 1:
-            amplitudes = sorted(p.cycle_amplitudes)[-3:]
             errors = dynamic_errors(structure, candidates, floors, amplitudes)
             if errors is not None:
                 calibration = _dynamic_choice(candidates, errors)
-        calibration = _integrated(calibration, p.integrator, sorted(p.cycle_amplitudes)[-3:])
+        if p.refine_records:
+            calibration = refine(structure, calibration, floors, amplitudes, p.refine_records)
+        calibration = _integrated(calibration, p.integrator, amplitudes)
         warn_where_off(structure, calibration, p.tolerance)
         return self._built(calibration, floors)
 

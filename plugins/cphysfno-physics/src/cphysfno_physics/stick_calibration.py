@@ -78,6 +78,9 @@ class LawSpace:
             not one itself (Bouc-Wen's share of ``beta`` and ``gamma``).
         parameters: ``parameters(alpha, u_y, shape) -> dict`` of the law's ``Params``
             fields for one story (``u_y`` in m).
+        yield_scaled: ``yield_scaled(parameters, factors) -> parameters``: the law's
+            parameters (one value per story of each) with each story's yield drift times
+            its factor (``[d]``) and the shape unchanged.
     """
 
     name: str
@@ -87,6 +90,11 @@ class LawSpace:
     shape_names: tuple[str | None, ...] = ()
     parameters: Callable[[float, float, Sequence[float]], dict[str, float]] = field(
         default=lambda alpha, u_y, shape: {"alpha": alpha, "yield_displacement": u_y}
+    )
+    yield_scaled: Callable[[dict[str, list[float]], np.ndarray], dict[str, list[float]]] = field(
+        default=lambda parameters, factors: _lengths_scaled(
+            parameters, factors, ("yield_displacement",)
+        )
     )
 
     def held_within_fit(self, story_law: dict[str, Any]) -> dict[str, Any]:
@@ -116,6 +124,28 @@ def _bouc_wen(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, flo
         "beta": share * scale,
         "gamma": (1.0 - share) * scale,
     }
+
+
+def _lengths_scaled(
+    parameters: dict[str, list[float]], factors: np.ndarray, lengths: Sequence[str]
+) -> dict[str, list[float]]:
+    """``parameters`` with each of ``lengths`` (drifts, m) times each story's factor."""
+    scaled = dict(parameters)
+    for name in lengths:
+        scaled[name] = (np.asarray(parameters[name], dtype=np.float64) * factors).tolist()
+    return scaled
+
+
+def _bouc_wen_yield_scaled(
+    parameters: dict[str, list[float]], factors: np.ndarray
+) -> dict[str, list[float]]:
+    """The yield drift times ``factors`` and ``beta``, ``gamma`` times ``factors^-n``:
+    the hysteretic part saturates at the new yield drift with the same unloading shape."""
+    scaled = _lengths_scaled(parameters, factors, ("yield_displacement",))
+    power = factors ** -np.asarray(parameters["exponent"], dtype=np.float64)
+    for name in ("beta", "gamma"):
+        scaled[name] = (np.asarray(parameters[name], dtype=np.float64) * power).tolist()
+    return scaled
 
 
 def _pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, float]:
@@ -152,6 +182,7 @@ LAW_SPACES = {
         shape_bounds=((1.0, 20.0), (0.02, 0.98)),
         shape_names=("exponent", None),
         parameters=_bouc_wen,
+        yield_scaled=_bouc_wen_yield_scaled,
     ),
     "pinching": LawSpace(
         "pinching",
@@ -180,6 +211,9 @@ LAW_SPACES = {
             "crack_hysteresis",
         ),
         parameters=_cracked_pinching,
+        yield_scaled=lambda parameters, factors: _lengths_scaled(
+            parameters, factors, ("yield_displacement", "crack_displacement")
+        ),
     ),
 }
 """The laws the calibration can fit, by name."""
@@ -229,7 +263,8 @@ class StickCalibration:
             laws are fitted to with the cyclic one.
         cyclic: the cyclic pushover.
         stiffness: ``[d]`` initial story stiffnesses of the stick, N/m: the backbone's
-            initial slopes times ``stiffness_scale``.
+            initial slopes times ``stiffness_scale`` (and each times the refinement's
+            factor, where a refinement was kept).
         stiffness_scale: the factor that gives the springs alone the structure's first
             period.
         periods: the structure's first periods, s.
@@ -250,6 +285,12 @@ class StickCalibration:
         integrator_error: the relative L2 of the stick on central difference against
             the same stick on Runge-Kutta under the probe pulses, where the integrator was
             chosen by it, else None.
+        refinement: where the stick was refined on synthetic records
+            (:func:`~.stick_refinement.refine`): how many were fitted and held out, the
+            relative L2 against the structure on each before and after, whether the
+            refinement was kept (``accepted``; the stiffnesses and the chosen law's
+            parameters are then the refined ones) and the factors found on each story's
+            stiffness and yield drift; else None.
     """
 
     backbone: StoryPushover
@@ -266,6 +307,7 @@ class StickCalibration:
     coupling: np.ndarray | None = None
     integrator: str = "runge-kutta"
     integrator_error: float | None = None
+    refinement: dict[str, Any] | None = None
 
     def story_law(self) -> dict[str, Any]:
         """The chosen law as a ``shear-building``'s ``story_law``: its name and one value
@@ -332,6 +374,7 @@ class StickCalibration:
             "coupling": None if self.coupling is None else self.coupling.tolist(),
             "integrator": self.integrator,
             "integrator_error": self.integrator_error,
+            "refinement": self.refinement,
         }
 
     @classmethod
@@ -358,6 +401,7 @@ class StickCalibration:
             else np.asarray(document["coupling"], dtype=np.float64),
             integrator=document.get("integrator", "runge-kutta"),
             integrator_error=document.get("integrator_error"),
+            refinement=document.get("refinement"),
         )
 
 

@@ -10,6 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .stick_calibration import StickCalibration
+from .stick_refinement import FOLLOWS
 
 FIT_WARNING = 0.10
 """Worst-story fit error (RMS shear error over peak shear on the monotonic and cyclic
@@ -65,6 +66,8 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
             "The law was chosen by its response to three probe pulses at the structure's "
             f"first period (relative L2 of each law's stick against the structure: {errors}).",
         ]
+    if calibration.refinement is not None:
+        lines += ["", refinement_line(calibration.refinement)]
     if calibration.integrator_error is not None:
         lines += [
             "",
@@ -80,6 +83,31 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
             f"(over {FIT_WARNING:.0%}); its z is a weak physics input here.",
         ]
     return lines
+
+
+def refinement_line(refinement: dict) -> str:
+    """What the refinement on synthetic records did, in one Markdown paragraph."""
+    errors = (
+        f"relative L2 against the structure on the {refinement['fitted']} records fitted "
+        f"{refinement['fitted_before']:.3f} -> {refinement['fitted_after']:.3f}, on the "
+        f"{refinement['held_out']} held out {refinement['held_out_before']:.3f} -> "
+        f"{refinement['held_out_after']:.3f}"
+    )
+    if not refinement["accepted"]:
+        return (
+            f"The stick was refined on {refinement['records']} synthetic records ({errors}) "
+            "and kept as the pushovers fitted it: the records held out do not favour the "
+            f"refinement, or the stick was within {FOLLOWS:.0%} of the structure on them "
+            "already."
+        )
+    factors = ", ".join(
+        f"{k:.2f}/{y:.2f}"
+        for k, y in zip(refinement["stiffness_factors"], refinement["yield_factors"], strict=True)
+    )
+    return (
+        f"The stick was refined on {refinement['records']} synthetic records ({errors}): "
+        f"factors on each story's stiffness/yield drift {factors}."
+    )
 
 
 def plot_calibration(calibration: StickCalibration, path: Path) -> Path:

@@ -56,23 +56,38 @@ def roof_drift_ratio(stick, motions: GroundMotions, height: float) -> np.ndarray
     return np.where(np.isfinite(peak), peak, np.inf)
 
 
+def scales_reaching(
+    stick: Structure, records: GroundMotions, targets: np.ndarray, height: float
+) -> np.ndarray:
+    """``[n]`` the factor on each of the ``n`` records under which ``stick`` reaches the
+    roof drift ratio of ``targets`` (``[n]``; roof over ``height``, m): bisection in the
+    factor's logarithm between 1e-3 and 1e3, every record at once."""
+    low = np.full(records.n_records, np.log(1e-3))
+    high = np.full(records.n_records, np.log(1e3))
+    for _ in range(SCALE_HALVINGS):
+        middle = 0.5 * (low + high)
+        scaled = GroundMotions(np.exp(middle)[:, None] * records.acceleration, records.dt)
+        below = roof_drift_ratio(stick, scaled, height) < np.asarray(targets)
+        low, high = np.where(below, middle, low), np.where(below, high, middle)
+    return np.exp(0.5 * (low + high))
+
+
 def probe_motions(calibration: StickCalibration, amplitudes: Sequence[float]) -> GroundMotions:
     """``[len(amplitudes), T]`` the probe pulse scaled, for each roof drift ratio of
-    ``amplitudes``, so that the stick of ``calibration`` reaches it (bisection in the
-    scale's logarithm between 1e-3 and 1e3 m/s^2)."""
-    stick = calibration.building()
+    ``amplitudes``, so that the stick of ``calibration`` reaches it
+    (:func:`scales_reaching`)."""
     unit = probe_shape(float(calibration.periods[0]))
+    pulses = GroundMotions(np.repeat(unit.acceleration, len(amplitudes), axis=0), unit.dt)
     height = float(calibration.backbone.heights.sum())
-    scales = []
-    for target in amplitudes:
-        low, high = np.log(1e-3), np.log(1e3)
-        for _ in range(SCALE_HALVINGS):
-            middle = 0.5 * (low + high)
-            scaled = GroundMotions(np.exp(middle) * unit.acceleration, unit.dt)
-            reached = roof_drift_ratio(stick, scaled, height)[0]
-            low, high = (middle, high) if reached < target else (low, middle)
-        scales.append(np.exp(0.5 * (low + high)))
-    return GroundMotions(np.asarray(scales)[:, None] * unit.acceleration, unit.dt)
+    scales = scales_reaching(calibration.building(), pulses, np.asarray(amplitudes), height)
+    return GroundMotions(scales[:, None] * pulses.acceleration, unit.dt)
+
+
+def pooled_relative_l2(z: np.ndarray, u: np.ndarray) -> float:
+    """The relative L2 of ``z`` against ``u`` over all their entries together (inf where
+    it is not finite: a collapsed stick's NaN)."""
+    error = float(np.sqrt(np.sum((z - u) ** 2) / np.sum(u**2)))
+    return error if np.isfinite(error) else float("inf")
 
 
 def dynamic_errors(
@@ -114,8 +129,7 @@ def dynamic_errors(
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", CphysfnoWarning)
                 z = stick.simulate(probes).displacement[:, :, floors]
-            error = float(np.sqrt(np.sum((z - u) ** 2) / np.sum(u**2)))
-            errors[law] = error if np.isfinite(error) else float("inf")
+            errors[law] = pooled_relative_l2(z, u)
         found.append(errors)
     return found
 
@@ -136,5 +150,4 @@ def integrator_error(calibration: StickCalibration, amplitudes: Sequence[float])
     finite = np.isfinite(reference)
     if not np.array_equal(finite, np.isfinite(central)):
         return float("inf")
-    difference = central[finite] - reference[finite]
-    return float(np.sqrt(np.sum(difference**2) / np.sum(reference[finite] ** 2)))
+    return pooled_relative_l2(central[finite], reference[finite])
