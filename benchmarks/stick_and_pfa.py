@@ -13,7 +13,8 @@ drift ratio from 0.5 % to 2 %; isolated building: every record, its isolators yi
 structure's displacements (over every record, sample and output) of ``stick``, of the
 ``els`` of the initial stiffness and of ``relaxed`` (the structure itself at 5 dt), and
 the stick's calibration: the law chosen, every law's fit error per story, the stick's
-periods beside the structure's, the integrator chosen; beside the stick, the same stick on
+periods beside the structure's, what the refinement on synthetic records did, the
+integrator chosen; beside the stick, the same stick on
 Runge-Kutta (``stick on runge-kutta``).
 
 Speed: per record of 20 s at 100 Hz, on one core (the process's CPU affinity cut to one
@@ -39,6 +40,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from cphysfno_physics.stick_figures import refinement_line
 
 import cphysfno_core as cp
 from cphysfno_core import CphysfnoWarning, GroundMotions, edp
@@ -126,6 +128,7 @@ def physics(name: str, n_records: int) -> dict:
             "stiffness_scale": calibration.stiffness_scale,
             "integrator": calibration.integrator,
             "integrator_error": calibration.integrator_error,
+            "refinement": calibration.refinement,
             "fit_s": fit_s,
             "warnings": [str(w.message) for w in caught],
         },
@@ -194,6 +197,8 @@ def _physics_tables(name: str, r: dict) -> str:
     c = r["calibration"]
     lines += ["", f"law chosen: {c['law']}; fit {c['fit_s']:.1f} s; integrator "
               f"{c['integrator']} (probe error {c['integrator_error']:.4f})", ""]  # fmt: skip
+    if c.get("refinement"):
+        lines += [refinement_line(c["refinement"]), ""]
     lines += ["| law | fit error per story |", "|---|---|"]
     for law, errors in c["fit_errors"].items():
         lines.append(f"| {law} | {', '.join(f'{e:.3f}' for e in errors)} |")

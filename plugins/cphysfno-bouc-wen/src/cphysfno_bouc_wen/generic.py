@@ -32,8 +32,8 @@ def integrate_chain(
     ground_acceleration: np.ndarray,
     dt: float,
     substeps: int,
+    scheme: Callable[[LawFunctions, int], Callable],
     initial_state: np.ndarray | None = None,
-    scheme: Callable[[LawFunctions, int], Callable] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Response of a building at rest at t = 0 to ground accelerations.
 
@@ -44,11 +44,11 @@ def integrate_chain(
         ground_acceleration: ``[n, T]`` a_g in m/s^2, sampled every ``dt`` s.
         dt: sample spacing in s.
         substeps: integration steps per sample interval.
-        initial_state: ``[d, n_states]`` law state at rest (default zeros).
         scheme: the factory of the compiled integrator, ``(functions, n_states) ->
-            kernel`` (:func:`rk4_kernel`, the default, or
+            kernel`` (:func:`rk4_kernel` or
             :func:`~.central_difference.central_difference_kernel`); ``substeps`` are its
             steps per sample interval.
+        initial_state: ``[d, n_states]`` law state at rest (default zeros).
 
     Returns:
         Floor displacements, story drifts (m) and story shears (N), each ``[n, T, d]``,
@@ -61,7 +61,7 @@ def integrate_chain(
         initial_state = np.zeros((d, n_states))
     displacement, drift, shear = (np.empty((n_records, n_steps, d)) for _ in range(3))
     finite = np.empty(n_records, dtype=np.bool_)
-    kernel = (scheme or rk4_kernel)(functions, n_states)
+    kernel = scheme(functions, n_states)
     arrays = tuple(np.ascontiguousarray(a, dtype=np.float64) for a in chain)
     start = np.ascontiguousarray(initial_state, dtype=np.float64).reshape(d, n_states)
 

@@ -61,7 +61,9 @@ MAX_EVALUATIONS = 60
 """Least-squares evaluations of the stick (the Jacobian's aside)."""
 
 
-def refinement_records(calibration: StickCalibration, amplitudes: list[float], n: int):
+def refinement_records(
+    calibration: StickCalibration, amplitudes: list[float], n: int
+) -> GroundMotions:
     """``[n, T]`` the synthetic records, each scaled so that the stick of ``calibration``
     reaches one of ``n`` roof drift ratios spaced geometrically from the smallest to the
     largest of ``amplitudes`` (at ``min(0.01, T1 / 50)`` s a sample)."""
