@@ -9,7 +9,13 @@ import json
 import numpy as np
 import pytest
 from cphysfno_bouc_wen.shear_building import ShearBuilding
-from cphysfno_physics import Stick, StickCalibration, stick_calibration, stick_probes
+from cphysfno_physics import (
+    Stick,
+    StickCalibration,
+    stick_calibration,
+    stick_probes,
+    stick_refinement,
+)
 from cphysfno_physics import stick as stick_module
 from cphysfno_physics.stick_calibration import (
     LAW_SPACES,
@@ -498,3 +504,12 @@ def test_a_bouc_wen_yield_drift_scaled_keeps_its_saturation_at_the_yield_drift()
     assert saturation == pytest.approx([0.02, 0.005])
     assert np.divide(scaled["beta"], scaled["gamma"]) == pytest.approx([0.3 / 0.7] * 2)
     assert scaled["alpha"] == per_story["alpha"] and scaled["exponent"] == [3.0, 3.0]
+
+
+def test_a_refinement_without_its_ground_motions_says_what_to_install(monkeypatch):
+    def missing(kind, name, **params):
+        raise cp.RegistryError(f"unknown {kind} '{name}'; known {kind} names: none")
+
+    monkeypatch.setattr(stick_refinement, "create", missing)
+    with pytest.raises(ConfigError, match="install it or set refine_records = 0"):
+        Stick(**FAST, laws=("bilinear",)).fit(building(BILINEAR))

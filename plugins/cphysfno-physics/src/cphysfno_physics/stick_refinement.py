@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 import scipy.optimize
 
-from cphysfno_core import CphysfnoWarning, GroundMotions, create
+from cphysfno_core import ConfigError, CphysfnoWarning, GroundMotions, RegistryError, create
 from cphysfno_core.plugin import Structure
 
 from .stick_calibration import (
@@ -66,14 +66,25 @@ def refinement_records(
 ) -> GroundMotions:
     """``[n, T]`` the synthetic records, each scaled so that the stick of ``calibration``
     reaches one of ``n`` roof drift ratios spaced geometrically from the smallest to the
-    largest of ``amplitudes`` (at ``min(0.01, T1 / 50)`` s a sample)."""
+    largest of ``amplitudes`` (at ``min(0.01, T1 / 50)`` s a sample).
+
+    Raises:
+        ConfigError: the ``spectrum-compatible`` ground motion is not installed.
+    """
     period = float(calibration.periods[0])
-    source = create(
-        "ground_motion",
-        "spectrum-compatible",
-        dt=min(0.01, period / PROBE_SAMPLES_PER_PERIOD),
-        duration=DURATION,
-    )
+    try:
+        source = create(
+            "ground_motion",
+            "spectrum-compatible",
+            dt=min(0.01, period / PROBE_SAMPLES_PER_PERIOD),
+            duration=DURATION,
+        )
+    except RegistryError as error:
+        raise ConfigError(
+            "stick.refine_records: the refinement's synthetic records come from the "
+            "'spectrum-compatible' ground motion of the cphysfno-ground-motions plugin "
+            f"({error}); install it or set refine_records = 0"
+        ) from None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CphysfnoWarning)
         records = source.sample(n, np.random.default_rng(SEED))
