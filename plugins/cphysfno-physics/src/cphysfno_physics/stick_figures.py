@@ -74,8 +74,9 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
             "The law was chosen by its response to three probe pulses at the structure's "
             f"first period (relative L2 of each law's stick against the structure: {errors}).",
         ]
-    if calibration.refinement is not None:
-        lines += ["", refinement_line(calibration.refinement)]
+    refinement = calibration.refinement
+    if refinement is not None:
+        lines += ["", refinement_line(refinement)]
     if calibration.integrator_error is not None:
         lines += [
             "",
@@ -83,7 +84,6 @@ def summary_lines(calibration: StickCalibration) -> list[str]:
             f"{calibration.integrator_error:.4f} from itself on Runge-Kutta under the probe "
             "pulses, relative L2).",
         ]
-    refinement = calibration.refinement
     kept = refinement is not None and refinement["accepted"]
     if chosen.worst > FIT_WARNING and kept:
         lines += [

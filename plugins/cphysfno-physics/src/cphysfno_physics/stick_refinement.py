@@ -185,9 +185,10 @@ def refine(
         max_nfev=MAX_EVALUATIONS,
     )
     errors = {
-        f"{rows}_{when}": float(np.linalg.norm(stick_error(x, index)))
-        for rows, index in (("fitted", fitted), ("held_out", held))
-        for when, x in (("before", x0), ("after", result.x))
+        "fitted_before": float(np.linalg.norm(stick_error(x0, fitted))),
+        "fitted_after": float(np.linalg.norm(result.fun)),  # the residual at result.x
+        "held_out_before": float(np.linalg.norm(stick_error(x0, held))),
+        "held_out_after": float(np.linalg.norm(stick_error(result.x, held))),
     }
     choice = {"pushover": errors["held_out_before"], "refined": errors["held_out_after"]}
     accepted = errors["held_out_before"] > FOLLOWS and first_within_tie(choice) == "refined"
