@@ -39,7 +39,7 @@ def central_difference_kernel(functions: LawFunctions, n_states: int):
     width = max(n_states, 1)
     smooth = settle is no_settling
 
-    @numba.njit(**FAST)
+    @numba.njit(inline="always", **FAST)
     def accelerations(q, velocity, ag_now, solved, coupled, shear, out):
         """``out = (I + h/2 C)^-1 (-p a_g - C w - K q - B F)``, ``solved`` the products
         of that inverse with ``(p, C, K, B)``; ``coupled``: ``K`` is not zero."""
@@ -97,17 +97,18 @@ def central_difference_kernel(functions: LawFunctions, n_states: int):
                     for s in range(d):
                         v = story_value(drift_map, q, s, 0)
                         state = states[s]
+                        c = coef[s]
                         v_dot = (v - drift[s]) / h
-                        rate(coef[s], drift[s], v_dot, state, story_rate)
+                        rate(c, drift[s], v_dot, state, story_rate)
                         if smooth:
                             for m in range(width):
                                 half[m] = state[m] + 0.5 * h * story_rate[m]
-                            rate(coef[s], 0.5 * (drift[s] + v), v_dot, half, story_rate)
+                            rate(c, 0.5 * (drift[s] + v), v_dot, half, story_rate)
                         for m in range(width):
                             state[m] += h * story_rate[m]
-                        settle(coef[s], v, state)
+                        settle(c, v, state)
                         drift[s] = v
-                        shear[s] = force(coef[s], v, state)
+                        shear[s] = force(c, v, state)
                     ag_now = a0 + slope * (sub + 1)
                     accelerations(q, predicted, ag_now, solved, coupled, shear, acceleration)
                     for j in range(r):

@@ -102,7 +102,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
     force, rate, settle = functions
     width = max(n_states, 1)
 
-    @numba.njit(**FAST)
+    @numba.njit(inline="always", **FAST)
     def rates(
         y, ag_now, damping, coupling, force_map, drift_map, part, coef, out, story_rate, shear
     ):
@@ -124,7 +124,7 @@ def rk4_kernel(functions: LawFunctions, n_states: int):
                 acc -= force_map[j, s] * shear[s]
             out[r + j] = acc
 
-    @numba.njit(**FAST)
+    @numba.njit(inline="always", **FAST)
     def sample(y, k, drift_map, floors, coef, disp_out, drift_out, shear_out):
         r, d = floors.shape[1], floors.shape[0]
         for s in range(d):
