@@ -38,6 +38,11 @@ def test_peak_r2_by_hand():
     assert metrics.peak_r2(prediction, truth) == pytest.approx(0.75)
 
 
+def test_peak_r2_of_records_whose_peaks_do_not_vary_is_nan():
+    one = np.ones((1, 5, 2))
+    assert np.isnan(metrics.peak_r2(2.0 * one, one))
+
+
 def test_coverage_by_hand():
     truth = np.array([[[0.0], [1.0], [2.0], [3.0]]])
     mean = np.zeros_like(truth)

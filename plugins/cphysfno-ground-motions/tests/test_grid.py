@@ -101,3 +101,18 @@ def test_native_grid_is_the_finest_step_and_the_longest_record():
     assert motions.dt == 0.005 and motions.n_steps == 1001  # 5 s
     assert motions.metadata[0]["native_dt"] == 0.01
     assert abs(motions.acceleration[0, 500] - 2.0) < 0.02  # band-limited interpolation
+
+
+def test_a_cut_that_leaves_out_most_of_a_records_shaking_warns_naming_it():
+    """A record that is quiet for 25 s and shakes after keeps none of its Arias intensity
+    within 20 s (scaled to a target it would be amplified noise): the cut names it and
+    how to start at the shaking; a record that shakes within the grid is not named."""
+    quiet = np.concatenate([np.full(2501, 1e-4), np.ones(1000)])
+    records = [Record(quiet, 0.01, {"name": "late"}), _record("early", 0.01, 35.0)]
+    with pytest.warns(GroundMotionWarning) as caught:
+        common_grid(records, dt=0.01, resample_all=True, duration=20.0, pad_short=True, where="s")
+    (message,) = [str(w.message) for w in caught]
+    assert "s: 1 records keep less than 50% of their shaking (Arias intensity) within 20 s" in (
+        message
+    )
+    assert "late (0%)" in message and "early" not in message and "pre_shaking" in message

@@ -305,7 +305,7 @@ def test_a_record_that_collapses_the_frame_is_marked_and_the_others_are_unchange
 
 
 def test_a_run_on_strong_records_finishes_and_says_how_many_collapsed(tmp_path):
-    """The example with its records scaled 1 to 10 times: some collapse the frame (9 of
+    """The example with its records scaled 1 to 10 times: some collapse the frame (6 of
     16 here), the run goes on, leaves them out of training and the error tables, and says
     how many."""
     config = _tiny_config(

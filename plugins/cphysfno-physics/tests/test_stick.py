@@ -514,6 +514,23 @@ def test_a_bouc_wen_yield_drift_scaled_keeps_its_saturation_at_the_yield_drift()
     assert scaled["alpha"] == per_story["alpha"] and scaled["exponent"] == [3.0, 3.0]
 
 
+def test_a_law_start_whose_story_test_overflows_loses_instead_of_stopping_the_fit(
+    bilinear_building,
+):
+    """A Bouc-Wen start at a yield drift a millionth of a millimetre (a corner so sharp
+    that the story test overflows, as a first guess from a strange curve can give) ends
+    the least squares with that start's error infinite: the law loses, the fit goes on."""
+    backbone = bilinear_building.story_pushover(cp.signals.monotonic_protocol(0.03))
+    cyclic = bilinear_building.story_pushover(
+        cp.signals.cyclic_protocol(FAST["cycle_amplitudes"], FAST["points_per_cycle"]),
+        backbone.pattern,
+    )
+    stiffness = np.asarray(bilinear_building.params.stiffnesses)
+    guess = (np.full(3, 0.9), np.full(3, 1e-9))
+    fit = stick_calibration.fit_law(LAW_SPACES["bouc-wen"], (backbone, cyclic), stiffness, guess)
+    assert fit.worst == np.inf
+
+
 def test_a_refinement_without_its_ground_motions_says_what_to_install(monkeypatch):
     def missing(kind, name, **params):
         raise cp.RegistryError(f"unknown {kind} '{name}'; known {kind} names: none")

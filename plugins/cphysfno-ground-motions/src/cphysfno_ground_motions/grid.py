@@ -12,6 +12,10 @@ from cphysfno_core.signals.resampling import resample, same_step
 from .errors import GroundMotionWarning
 from .record import Record, describe
 
+KEPT_SHAKING_WARNING = 0.5
+"""Share of a record's Arias intensity (the integral of a^2) below which a cut to the
+grid's duration warns: the record's strong motion lies mostly past the cut."""
+
 
 def fit_length(acceleration: np.ndarray, steps: int) -> np.ndarray:
     """``[steps]``: the record cut after ``steps`` samples, or zero-padded up to them."""
@@ -118,5 +122,34 @@ def common_grid(
                 records = [r for r, k in zip(records, keep, strict=True) if k]
                 resampled = [a for a, k in zip(resampled, keep, strict=True) if k]
     acceleration = np.stack([fit_length(a, n_steps) for a in resampled])
+    _warn_where_shaking_is_cut(records, resampled, acceleration, (n_steps - 1) * step, where)
     metadata = [{**r.metadata, "native_dt": r.dt, "native_duration": r.duration} for r in records]
     return GroundMotions(acceleration, step, metadata)
+
+
+def _warn_where_shaking_is_cut(
+    records: list[Record],
+    resampled: list[np.ndarray],
+    cut: np.ndarray,
+    duration: float,
+    where: str,
+) -> None:
+    """Warn, naming them, about records whose cut to the grid keeps less than
+    :data:`KEPT_SHAKING_WARNING` of their Arias intensity (a quiet beginning, as some
+    Chi-Chi records that shake only after 20 s, which scaling to a target would then blow
+    up into amplified noise)."""
+    total = np.array([np.sum(a**2) for a in resampled])
+    kept = np.sum(cut**2, axis=1) / np.where(total > 0.0, total, 1.0)
+    low = (total > 0.0) & (kept < KEPT_SHAKING_WARNING)
+    if not low.any():
+        return
+    names = describe(
+        [f"{r.name} ({share:.0%})" for r, share, w in zip(records, kept, low, strict=True) if w]
+    )
+    warnings.warn(
+        f"{where}: {int(low.sum())} records keep less than {KEPT_SHAKING_WARNING:.0%} of "
+        f"their shaking (Arias intensity) within {duration:g} s: {names}; start each "
+        "record at its shaking (the recorded source's pre_shaking) or lengthen duration",
+        GroundMotionWarning,
+        stacklevel=3,
+    )

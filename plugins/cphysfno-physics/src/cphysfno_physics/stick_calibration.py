@@ -38,6 +38,12 @@ from cphysfno_core.signals import coupling_story_shear, floor_stiffness
 MAX_ITERATIONS = 50
 """Least-squares iterations from each start (the Jacobian's evaluations aside)."""
 
+UNFINISHED_RESIDUAL = 1e3
+"""The largest residual (in peak story shears) of a point, and that of a point where a
+law's story test did not stay finite (a sharp Bouc-Wen corner at a tiny yield drift
+overflows): far worse than any fit, so that the least squares move away from it and a
+start that ends there loses."""
+
 POST_YIELD_SHARE = 0.2
 """Last fraction of the monotonic curve whose slope starts the post-yield stiffness."""
 
@@ -483,7 +489,8 @@ def fit_law(
         return replay(story_laws(x), curves, stiffness)
 
     def residual(x: np.ndarray) -> np.ndarray:
-        return ((shears(x) - reference) / scale).ravel()
+        scaled = np.nan_to_num((shears(x) - reference) / scale, nan=UNFINISHED_RESIDUAL)
+        return np.clip(scaled, -UNFINISHED_RESIDUAL, UNFINISHED_RESIDUAL).ravel()
 
     lower = np.tile([space.alpha_bounds[0], 1e-3, *(b[0] for b in space.shape_bounds)], d)
     upper = np.tile([space.alpha_bounds[1], 1e3, *(b[1] for b in space.shape_bounds)], d)
@@ -507,7 +514,7 @@ def fit_law(
             gtol=1e-12,
             max_nfev=MAX_ITERATIONS,
         )
-        error = story_errors(shears(result.x), reference)
+        error = np.nan_to_num(story_errors(shears(result.x), reference), nan=np.inf)
         if best_x is None:
             best_x = result.x.reshape(d, width).copy()
         better = error < best_error
