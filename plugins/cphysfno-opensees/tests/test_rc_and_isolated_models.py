@@ -10,6 +10,7 @@ first) for their weights, periods and the bearings' designed strength."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -32,7 +33,9 @@ MODELS = {
 }
 
 
+@functools.cache
 def _structure(name: str) -> Structure:
+    """The example's structure, built (and its OpenSees model probed) once per session."""
     config = cp.load_config(sm.EXAMPLES / f"{name}.toml").structure
     return cp.create("structure", config.name, **{**config.params, "workers": 1})
 

@@ -7,6 +7,7 @@ import warnings
 
 import numpy as np
 from cphysfno_core import DatasetError, GroundMotions
+from cphysfno_core.signals.intensity import arias_intensity
 from cphysfno_core.signals.resampling import resample, same_step
 
 from .errors import GroundMotionWarning
@@ -122,7 +123,7 @@ def common_grid(
                 records = [r for r, k in zip(records, keep, strict=True) if k]
                 resampled = [a for a, k in zip(resampled, keep, strict=True) if k]
     acceleration = np.stack([fit_length(a, n_steps) for a in resampled])
-    _warn_where_shaking_is_cut(records, resampled, acceleration, (n_steps - 1) * step, where)
+    _warn_where_shaking_is_cut(records, resampled, acceleration, step, where)
     metadata = [{**r.metadata, "native_dt": r.dt, "native_duration": r.duration} for r in records]
     return GroundMotions(acceleration, step, metadata)
 
@@ -131,15 +132,16 @@ def _warn_where_shaking_is_cut(
     records: list[Record],
     resampled: list[np.ndarray],
     cut: np.ndarray,
-    duration: float,
+    step: float,
     where: str,
 ) -> None:
     """Warn, naming them, about records whose cut to the grid keeps less than
     :data:`KEPT_SHAKING_WARNING` of their Arias intensity (a quiet beginning, as some
     Chi-Chi records that shake only after 20 s, which scaling to a target would then blow
     up into amplified noise)."""
-    total = np.array([np.sum(a**2) for a in resampled])
-    kept = np.sum(cut**2, axis=1) / np.where(total > 0.0, total, 1.0)
+    total = np.array([arias_intensity(a[None, :], step)[0] for a in resampled])
+    kept = arias_intensity(cut, step) / np.where(total > 0.0, total, 1.0)
+    duration = (cut.shape[1] - 1) * step
     low = (total > 0.0) & (kept < KEPT_SHAKING_WARNING)
     if not low.any():
         return
