@@ -59,16 +59,33 @@ CONFIGS = (
     "rc-frame-5story",
     "isolated-building-bouc-wen",
 )
-DRIFT_WINDOW = {"rc-frame": (0.005, 0.02), "rc-frame-5story": (0.005, 0.02)}
-"""Largest peak story drift ratio a kept record has (every record where not given)."""
-TARGETS = {
-    "rc-frame": 0.30,
-    "isolated-building": 0.10,
-    "rc-frame-5story": 0.30,
-    "isolated-building-bouc-wen": 0.10,
+
+
+@dataclasses.dataclass(frozen=True)
+class StructureClass:
+    """What the stick is asked on a class of structures.
+
+    Attributes:
+        target: pooled relative L2 of the stick's z to reach.
+        drift_window: ``(lower, upper)`` largest peak story drift ratio of a kept record
+            (every record where None).
+        isolated: whether the first story is an isolation layer (its peak drift is shown).
+    """
+
+    target: float
+    drift_window: tuple[float, float] | None = None
+    isolated: bool = False
+
+
+RC_FRAME = StructureClass(0.30, drift_window=(0.005, 0.02))
+ISOLATED = StructureClass(0.10, isolated=True)
+CLASSES = {
+    "rc-frame": RC_FRAME,
+    "rc-frame-5story": RC_FRAME,
+    "isolated-building": ISOLATED,
+    "isolated-building-bouc-wen": ISOLATED,
 }
-"""Pooled relative L2 of the stick's z the physics is asked to reach (none where not
-given)."""
+"""The class of each config the stick has a target on (none where not given)."""
 MORE_PHYSICS = {"sac9-frame-paper-regime": ("els-exact",)}
 """Physics inputs compared beside stick, els and relaxed."""
 SEED = 1
@@ -98,7 +115,8 @@ def physics(name: str, n_records: int) -> dict:
     truth = structure.simulate(motions)
     pid = edp.compute(truth, structure, motions).pid
     largest = np.nanmax(pid, axis=1)
-    window = DRIFT_WINDOW.get(name)
+    kind = CLASSES.get(name)
+    window = None if kind is None else kind.drift_window
     keep = np.isfinite(largest)
     if truth.collapsed is not None:
         keep &= ~truth.collapsed
@@ -131,7 +149,7 @@ def physics(name: str, n_records: int) -> dict:
         "median_peak_drift_ratio_per_story": np.nanmedian(pid[keep], axis=0).tolist(),
         "pooled_rel_l2": {k: pooled_l2(v, u) for k, v in z.items()},
         "rel_l2_per_output": {k: relative_l2(v, u).tolist() for k, v in z.items()},
-        "target": TARGETS.get(name),
+        "target": None if kind is None else kind.target,
         "calibration": {
             "law": calibration.law,
             "fit_errors": {law: fit.errors for law, fit in calibration.fits.items()},
@@ -145,7 +163,7 @@ def physics(name: str, n_records: int) -> dict:
             "warnings": [str(w.message) for w in caught],
         },
     }
-    if name.startswith("isolated-building"):
+    if kind is not None and kind.isolated:
         peaks = np.abs(u[:, :, 0]).max(axis=1)
         result["isolator_peak_m"] = np.quantile(peaks, [0.0, 0.5, 1.0]).tolist()
 

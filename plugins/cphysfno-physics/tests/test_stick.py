@@ -23,6 +23,7 @@ from cphysfno_physics.stick_calibration import (
     IndefiniteFloorStiffness,
     first_within_tie,
 )
+from cphysfno_physics.stick_probes import FOLLOWS
 
 import cphysfno_core as cp
 from cphysfno_core import CapabilityError, ConfigError, CphysfnoWarning, GroundMotions, create
@@ -113,6 +114,17 @@ def test_bouc_wen_laws_and_rayleigh_damping_are_found(bouc_wen_stick):
     assert np.allclose(found["gamma"], default, rtol=1e-3)
     assert calibration.damping_ratio == pytest.approx(0.03)
     assert calibration.rayleigh_modes == (1, 3)
+    # a whole exponent is kept whole: the kernel multiplies instead of taking a power
+    assert found["exponent"] == [3.0, 3.0, 3.0]
+
+
+def test_a_bouc_wen_exponent_between_whole_numbers_is_found_as_it_is():
+    """Rounded to 2 or 3 the fit would miss the building's n = 2.5: it is not rounded."""
+    structure = building({**BOUC_WEN, "exponent": 2.5})
+    pushed = {"laws": ("bouc-wen",), "law_choice": "pushover", "refine_records": 0}
+    found = Stick(**FAST, **pushed).fit(structure).calibration_.fits["bouc-wen"]
+    assert np.allclose(found.parameters["exponent"], 2.5, rtol=1e-3)
+    assert max(found.errors) < 1e-3
 
 
 @pytest.mark.parametrize("which", ["bilinear", "bouc_wen"])
@@ -212,6 +224,18 @@ def test_both_forms_are_fitted_and_the_probes_choose_the_coupled_one(frame_like)
         "bouc-wen (springs alone)",
     }
     assert errors["bilinear"] < 1e-6 < 0.04 < errors["bilinear (springs alone)"]
+
+
+def test_springs_alone_that_follow_the_structure_are_kept_as_the_cheaper_stick():
+    """A tenth of the frame's flexure: springs alone follow the building within FOLLOWS
+    under the probes, so they are kept although the coupled stick is the building itself."""
+    weak = tuple(tuple(0.1 * value for value in row) for row in COUPLING)
+    structure = building(BILINEAR, coupling=weak, rayleigh_modes=(1, 2))
+    calibration = Stick(**FAST, laws=("bilinear",), refine_records=0).fit(structure).calibration_
+    errors = calibration.dynamic_errors
+    assert errors["bilinear"] < 1e-6 < errors["bilinear (springs alone)"] <= FOLLOWS
+    assert calibration.coupling is None
+    assert calibration.law == "bilinear"
 
 
 def test_a_floor_stiffness_that_is_not_positive_definite_leaves_springs_alone(monkeypatch):

@@ -25,7 +25,7 @@ from .stick_calibration import (
     warn_where_off,
 )
 from .stick_figures import write_stick_artifacts
-from .stick_probes import INTEGRATOR_TOLERANCE, dynamic_errors, integrator_error
+from .stick_probes import FOLLOWS, INTEGRATOR_TOLERANCE, dynamic_errors, integrator_error
 from .stick_refinement import refine
 
 DriftRatio = Annotated[float, Field(gt=0.0, le=0.2)]
@@ -47,8 +47,9 @@ class Stick(PhysicsPreprocessor):
     periods too; the springs then hold the curves less the coupling's share), or not, or
     fits both forms. The form and law are chosen by ``law_choice``: by default the pair
     whose stick is closest to the structure itself under three resonant probe pulses
-    (:mod:`~cphysfno_physics.stick_probes`; the structure is analysed on them once), else
-    the one that fits the pushovers best. With ``refine_records`` the chosen stick's
+    (:mod:`~cphysfno_physics.stick_probes`; the structure is analysed on them once; springs
+    alone where they follow it within :data:`~.stick_probes.FOLLOWS`, as the cheaper
+    stick), else the one that fits the pushovers best. With ``refine_records`` the chosen stick's
     story stiffnesses, yield drifts and post-yield ratios are then refined on the
     structure's response to that many synthetic records, and kept where records held out
     of the fit confirm them (:mod:`~cphysfno_physics.stick_refinement`). :meth:`transform`
@@ -109,7 +110,9 @@ class Stick(PhysicsPreprocessor):
             "floors, a linear coupling between the floors beside the story springs (every "
             "period of the floor-condensed structure: a frame's flexure); 'none': story "
             "springs alone (a plain shear building, whose higher periods are longer than a "
-            "frame's); 'choose': fit both and keep the one law_choice ranks first",
+            "frame's); 'choose': fit both and keep the one law_choice ranks first, but "
+            f"springs alone wherever they follow the structure within {FOLLOWS} (the "
+            "cheaper stick)",
         )
         refine_records: int = Field(
             12,
@@ -282,7 +285,13 @@ def _dynamic_choice(
 ) -> StickCalibration:
     """The candidate and law of the lowest probe error (a tie, :func:`first_within_tie`,
     to the candidate and law listed first), with every candidate's errors (``"<law>"``
-    with the coupling, ``"<law> (springs alone)"`` without, where both were fitted)."""
+    with the coupling, ``"<law> (springs alone)"`` without, where both were fitted).
+
+    Where springs alone follow the structure within :data:`~.stick_probes.FOLLOWS`, the
+    closest such stick is kept even if a coupled one is closer still: closer than that the
+    two differ by about what the integrators do, and springs alone are the cheaper stick
+    (a tridiagonal stiffness, and higher periods longer than the frame's, so fewer
+    central-difference steps a sample)."""
     both = len({c.coupling is None for c in candidates}) > 1
     labelled, by_pair = {}, {}
     for index, (calibration, found) in enumerate(zip(candidates, errors, strict=True)):
@@ -290,7 +299,12 @@ def _dynamic_choice(
         for law, error in found.items():
             labelled[law + suffix] = error
             by_pair[index, law] = error
-    index, law = first_within_tie(by_pair)
+    cheap = {
+        pair: error
+        for pair, error in by_pair.items()
+        if candidates[pair[0]].coupling is None and error <= FOLLOWS
+    }
+    index, law = first_within_tie(cheap or by_pair)
     return dataclasses.replace(candidates[index], law=law, dynamic_errors=labelled)
 
 

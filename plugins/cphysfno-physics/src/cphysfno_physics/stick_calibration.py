@@ -38,6 +38,10 @@ from cphysfno_core.signals import coupling_story_shear, floor_stiffness
 MAX_ITERATIONS = 50
 """Least-squares iterations from each start (the Jacobian's evaluations aside)."""
 
+HELD = 1e-9
+"""Half-width of the bounds that hold a parameter at a value in a least-squares fit (which
+needs a lower bound below the upper one)."""
+
 UNFINISHED_RESIDUAL = 1e3
 """The largest residual (in peak story shears) of a point, and that of a point where a
 law's story test did not stay finite (a sharp Bouc-Wen corner at a tiny yield drift
@@ -87,6 +91,9 @@ class LawSpace:
         yield_scaled: ``yield_scaled(parameters, factors) -> parameters``: the law's
             parameters (one value per story of each) with each story's yield drift times
             its factor (``[d]``) and the shape unchanged.
+        whole_shapes: indices of the shape parameters the law evaluates faster where
+            they are whole numbers (Bouc-Wen's exponent: by multiplication instead of a
+            power); :func:`fit_law` rounds them where the fit ties.
     """
 
     name: str
@@ -102,6 +109,7 @@ class LawSpace:
             parameters, factors, ("yield_displacement",)
         )
     )
+    whole_shapes: tuple[int, ...] = ()
 
     def held_within_fit(self, story_law: dict[str, Any]) -> dict[str, Any]:
         """``story_law`` (a ``shear-building``'s, one value per story of each parameter)
@@ -189,6 +197,7 @@ LAW_SPACES = {
         shape_names=("exponent", None),
         parameters=_bouc_wen,
         yield_scaled=_bouc_wen_yield_scaled,
+        whole_shapes=(0,),
     ),
     "pinching": LawSpace(
         "pinching",
@@ -459,7 +468,10 @@ def fit_law(
     """Least squares on the story shears over the points of every curve together, every
     story at once (a story's parameters touch its own shears only), each story's residuals
     divided by its largest absolute shear on the curves, from each of the law's starts;
-    the best start per story is kept.
+    the best start per story is kept. Where the law has :attr:`LawSpace.whole_shapes`,
+    they are then rounded to whole numbers, the rest fitted again, and each story keeps
+    the rounded fit where its error ties with the free one (:func:`first_within_tie`):
+    the same fit, a faster stick.
 
     Args:
         space: the law and its parameters.
@@ -499,14 +511,12 @@ def fit_law(
     # rows are ordered [point, story]: reorder the block-diagonal pattern to match
     order = np.arange(d * points).reshape(d, -1).T.ravel()
     sparsity = sparsity.tocsr()[order]
-    best_x, best_error = None, np.full(d, np.inf)
-    for shape in space.shape_starts:
-        x0 = np.column_stack([alpha0, np.ones(d), np.tile(shape, (d, 1))]).ravel()
-        x0 = np.clip(x0, lower, upper)
+
+    def fitted(x0: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         result = scipy.optimize.least_squares(
             residual,
-            x0,
-            bounds=(lower, upper),
+            np.clip(x0, low, high),
+            bounds=(low, high),
             jac_sparsity=sparsity,
             x_scale="jac",
             xtol=1e-12,
@@ -515,11 +525,34 @@ def fit_law(
             max_nfev=MAX_ITERATIONS,
         )
         error = np.nan_to_num(story_errors(shears(result.x), reference), nan=np.inf)
+        return result.x.reshape(d, width), error
+
+    best_x, best_error = None, np.full(d, np.inf)
+    for shape in space.shape_starts:
+        x0 = np.column_stack([alpha0, np.ones(d), np.tile(shape, (d, 1))]).ravel()
+        x, error = fitted(x0, lower, upper)
         if best_x is None:
-            best_x = result.x.reshape(d, width).copy()
+            best_x = x.copy()
         better = error < best_error
-        best_x[better] = result.x.reshape(d, width)[better]
+        best_x[better] = x[better]
         best_error = np.minimum(error, best_error)
+    if space.whole_shapes:
+        columns = [2 + index for index in space.whole_shapes]
+        low, high = lower.reshape(d, width).copy(), upper.reshape(d, width).copy()
+        whole = np.clip(np.round(best_x[:, columns]), low[:, columns], high[:, columns])
+        # a held interval around the whole value, within the bounds
+        low[:, columns] = np.clip(whole - HELD, low[:, columns], high[:, columns] - 2.0 * HELD)
+        high[:, columns] = low[:, columns] + 2.0 * HELD
+        x = best_x.copy()
+        x[:, columns] = whole
+        x, _ = fitted(x.ravel(), low.ravel(), high.ravel())
+        x[:, columns] = whole
+        error = np.nan_to_num(story_errors(shears(x.ravel()), reference), nan=np.inf)
+        ties = [
+            first_within_tie({"whole": e, "free": b}) == "whole"
+            for e, b in zip(error, best_error, strict=True)
+        ]
+        best_x[ties], best_error[ties] = x[ties], error[ties]
     laws = story_laws(best_x.ravel())
     parameters = {key: list(value) for key, value in laws.items() if key != "name"}
     return LawFit(parameters, best_error.tolist())

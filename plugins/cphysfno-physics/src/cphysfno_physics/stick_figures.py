@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .stick_calibration import StickCalibration
-from .stick_refinement import FOLLOWS
+from .stick_probes import FOLLOWS
 
 FIT_WARNING = 0.10
 """Worst-story fit error (RMS shear error over peak shear on the monotonic and cyclic

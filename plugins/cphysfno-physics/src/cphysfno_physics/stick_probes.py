@@ -31,6 +31,12 @@ PROBE_SAMPLES_PER_PERIOD = 50
 SCALE_HALVINGS = 30
 """Bisection steps on each probe's scale (in its logarithm)."""
 
+FOLLOWS = 0.03
+"""Relative L2 within which a stick follows the structure: closer than that, the stick and
+the structure differ by about what their integrators do (Newmark's rule against
+Runge-Kutta at 5-10 ms, 2e-3 to 4e-2), so a closer fit would fit that instead of the
+structure's physics."""
+
 INTEGRATOR_TOLERANCE = 0.02
 """Largest :func:`integrator_error` at which the stick runs on central difference: about a
 twentieth of the stick's own distance from the RC frame of examples/rc-frame.toml (0.39,

@@ -11,9 +11,9 @@ and fits per story the stick's initial stiffness (a factor within
 and its yield drift (a factor within ``exp(+-YIELD_RANGE)``) by least squares on the
 floor displacements. The law's shape parameters (pinching, cracking share, Bouc-Wen's
 exponent) stay the pushovers'. Every :data:`HELD_OUT_EVERY`-th record is held out: the
-refined stick is kept only where the pushover-fitted one is further than :data:`FOLLOWS`
-from the structure on them and the refined one closer by more than a tie
-(:data:`~.stick_calibration.TIE`).
+refined stick is kept only where the pushover-fitted one is further than
+:data:`~.stick_probes.FOLLOWS` from the structure on them and the refined one closer by
+more than a tie (:data:`~.stick_calibration.TIE`).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from .stick_calibration import (
     chain_periods,
     first_within_tie,
 )
-from .stick_probes import PROBE_SAMPLES_PER_PERIOD, scales_reaching
+from .stick_probes import FOLLOWS, PROBE_SAMPLES_PER_PERIOD, scales_reaching
 
 DURATION = 15.0
 """Length of each synthetic record, s."""
@@ -50,12 +50,6 @@ STIFFNESS_RANGE = 0.3
 
 YIELD_RANGE = 0.7
 """Largest ``|ln|`` of the factor on a story's yield drift."""
-
-FOLLOWS = 0.03
-"""Relative L2 on the held-out records within which the pushover-fitted stick is kept as
-it is: closer than that, the stick and the structure differ by about what their
-integrators do (Newmark's rule against Runge-Kutta at 5-10 ms, 2e-3 to 4e-2), which a
-refinement would fit instead of the structure's physics."""
 
 MAX_EVALUATIONS = 60
 """Least-squares evaluations of the stick (the Jacobian's aside)."""
@@ -128,12 +122,12 @@ def refine(
 ) -> StickCalibration:
     """The calibration refined on the structure's response to ``n_records`` synthetic
     records (:func:`refinement_records`), or as it was where the held-out records do not
-    favour the refinement or the stick followed the structure within :data:`FOLLOWS`
-    already; either way with ``refinement`` saying what was done (the relative L2 against
-    the structure before and after, on the records fitted and the records held out, and
-    the factors found). Where the structure survives too few records to fit on some and
-    check on others, nothing is refined and a :class:`~cphysfno_core.CphysfnoWarning`
-    says so.
+    favour the refinement or the stick followed the structure within
+    :data:`~.stick_probes.FOLLOWS` already; either way with ``refinement`` saying what was
+    done (the relative L2 against the structure before and after, on the records fitted
+    and the records held out, and the factors found). Where the structure survives too
+    few records to fit on some and check on others, nothing is refined and a
+    :class:`~cphysfno_core.CphysfnoWarning` says so.
 
     Args:
         structure: the structure the stick was fitted to.
