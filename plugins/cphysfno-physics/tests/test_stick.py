@@ -503,6 +503,13 @@ def test_a_law_that_cannot_be_the_buildings_is_refined_on_records(motions, tmp_p
     assert refinement["accepted"] is True
     assert refinement["held_out_after"] < refinement["held_out_before"]
     assert refinement["fitted_after"] < refinement["fitted_before"]
+    # "before" is the pushover-fitted stick's relative L2 on the records held out
+    records = stick_refinement.refinement_records(alone.calibration_, [0.0025, 0.005, 0.01], 12)
+    held = records[[2, 5, 8, 11]]
+    truth = structure.simulate(held).displacement
+    pushed = alone.calibration_.building().simulate(held).displacement
+    pooled = np.sqrt(np.sum((pushed - truth) ** 2) / np.sum(truth**2))
+    assert refinement["held_out_before"] == pytest.approx(pooled, rel=1e-9)
     u = structure.simulate(motions).displacement
     before = relative_l2(alone.transform(motions), u).max()
     assert relative_l2(refined.transform(motions), u).max() < before

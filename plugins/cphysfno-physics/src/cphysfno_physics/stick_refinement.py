@@ -151,13 +151,19 @@ def refine(
         )
         return calibration
 
-    def stick_error(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    def stick_residual(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", CphysfnoWarning)
             z = refined_member(calibration, x).building().simulate(motions[rows]).displacement
         u, z = truth.displacement[rows], z[:, :, floors]
-        residual = np.where(np.isfinite(z), z - u, -u)  # a collapsed stick's NaN as zero
-        return residual.ravel() / np.sqrt(np.sum(u**2))
+        return np.where(np.isfinite(z), z - u, -u)  # a collapsed stick's NaN as zero
+
+    def relative_l2(residual: np.ndarray, rows: np.ndarray) -> float:
+        return float(np.sqrt(np.sum(residual**2) / np.sum(truth.displacement[rows] ** 2)))
+
+    def stick_error(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        scale = np.sqrt(np.sum(truth.displacement[rows] ** 2))
+        return stick_residual(x, rows).ravel() / scale
 
     d = calibration.stiffness.size
     space = LAW_SPACES[calibration.law]
@@ -178,11 +184,13 @@ def refine(
         x_scale=0.1,
         max_nfev=MAX_EVALUATIONS,
     )
+    before = stick_residual(x0, kept)  # both subsets in one simulation
+    in_fitted = np.isin(kept, fitted)
     errors = {
-        "fitted_before": float(np.linalg.norm(stick_error(x0, fitted))),
+        "fitted_before": relative_l2(before[in_fitted], fitted),
         "fitted_after": float(np.linalg.norm(result.fun)),  # the residual at result.x
-        "held_out_before": float(np.linalg.norm(stick_error(x0, held))),
-        "held_out_after": float(np.linalg.norm(stick_error(result.x, held))),
+        "held_out_before": relative_l2(before[~in_fitted], held),
+        "held_out_after": relative_l2(stick_residual(result.x, held), held),
     }
     choice = {"pushover": errors["held_out_before"], "refined": errors["held_out_after"]}
     accepted = errors["held_out_before"] > FOLLOWS and first_within_tie(choice) == "refined"
