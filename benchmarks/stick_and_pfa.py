@@ -12,7 +12,8 @@ drift ratio from 0.5 % to 2 %; isolated building: every record, its isolators yi
 11 mm and move several times that). On them, the pooled relative L2 of ``z`` against the
 structure's displacements (over every record, sample and output) of ``stick``, of the
 ``els`` of the initial stiffness and of ``relaxed`` (the structure itself at 5 dt), and
-the stick's calibration: the law chosen, every law's fit error per story, the stick's
+the stick's calibration: the law and form chosen (with every pair's probe error), every
+law's fit error per story, the stick's
 periods beside the structure's, what the refinement on synthetic records did, the
 integrator chosen; beside the stick, the same stick on
 Runge-Kutta (``stick on runge-kutta``).
@@ -152,6 +153,8 @@ def physics(name: str, n_records: int) -> dict:
         "target": None if kind is None else kind.target,
         "calibration": {
             "law": calibration.law,
+            "form": "springs alone" if calibration.coupling is None else "coupled",
+            "dynamic_errors": calibration.dynamic_errors,
             "fit_errors": {law: fit.errors for law, fit in calibration.fits.items()},
             "periods": calibration.periods.tolist(),
             "stick_periods": calibration.stick_periods.tolist(),
@@ -225,7 +228,7 @@ def _physics_tables(name: str, r: dict) -> str:
         target = f"<= {r['target']}" if label == "stick" and r["target"] else ""
         lines.append(f"| {label} | {value:.3f} | {per} | {target} |")
     c = r["calibration"]
-    lines += ["", f"law chosen: {c['law']}; fit {c['fit_s']:.1f} s; integrator "
+    lines += ["", f"law chosen: {c['law']}, {c['form']}; fit {c['fit_s']:.1f} s; integrator "
               f"{c['integrator']} (probe error {c['integrator_error']:.4f})", ""]  # fmt: skip
     if c.get("refinement"):
         lines += [refinement_line(c["refinement"]), ""]
