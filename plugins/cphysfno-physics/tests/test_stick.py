@@ -224,6 +224,7 @@ def test_both_forms_are_fitted_and_the_probes_choose_the_coupled_one(frame_like)
         "bouc-wen (springs alone)",
     }
     assert errors["bilinear"] < 1e-6 < 0.04 < errors["bilinear (springs alone)"]
+    assert "Springs alone were kept" not in "\n".join(stick_figures.summary_lines(calibration))
 
 
 def test_springs_alone_that_follow_the_structure_are_kept_as_the_cheaper_stick():
@@ -236,6 +237,9 @@ def test_springs_alone_that_follow_the_structure_are_kept_as_the_cheaper_stick()
     assert errors["bilinear"] < 1e-6 < errors["bilinear (springs alone)"] <= FOLLOWS
     assert calibration.coupling is None
     assert calibration.law == "bilinear"
+    summary = "\n".join(stick_figures.summary_lines(calibration))
+    assert "Springs alone were kept although the coupled stick was closer" in summary
+    assert 'coupling = "floors"' in summary
 
 
 def test_a_floor_stiffness_that_is_not_positive_definite_leaves_springs_alone(monkeypatch):

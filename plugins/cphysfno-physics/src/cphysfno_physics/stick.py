@@ -18,6 +18,7 @@ from cphysfno_core.signals import cyclic_protocol, monotonic_protocol
 from .fitted import check_fitted
 from .stick_calibration import (
     LAW_SPACES,
+    SPRINGS_ALONE,
     IndefiniteFloorStiffness,
     StickCalibration,
     calibrate,
@@ -295,7 +296,7 @@ def _dynamic_choice(
     both = len({c.coupling is None for c in candidates}) > 1
     labelled, by_pair = {}, {}
     for index, (calibration, found) in enumerate(zip(candidates, errors, strict=True)):
-        suffix = " (springs alone)" if both and calibration.coupling is None else ""
+        suffix = SPRINGS_ALONE if both and calibration.coupling is None else ""
         for law, error in found.items():
             labelled[law + suffix] = error
             by_pair[index, law] = error

@@ -38,6 +38,10 @@ from cphysfno_core.signals import coupling_story_shear, floor_stiffness
 MAX_ITERATIONS = 50
 """Least-squares iterations from each start (the Jacobian's evaluations aside)."""
 
+SPRINGS_ALONE = " (springs alone)"
+"""What follows a law's name in :attr:`StickCalibration.dynamic_errors` for the stick
+without a coupling, where both forms were fitted."""
+
 HELD = 1e-9
 """Half-width of the bounds that hold a parameter at a value in a least-squares fit (which
 needs a lower bound below the upper one)."""
