@@ -34,7 +34,12 @@ from .stick_calibration import (
     chain_periods,
     first_within_tie,
 )
-from .stick_probes import FOLLOWS, PROBE_SAMPLES_PER_PERIOD, scales_reaching
+from .stick_probes import (
+    FOLLOWS,
+    PROBE_SAMPLES_PER_PERIOD,
+    pooled_relative_l2,
+    scales_reaching,
+)
 
 DURATION = 15.0
 """Length of each synthetic record, s."""
@@ -151,19 +156,16 @@ def refine(
         )
         return calibration
 
-    def stick_residual(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    def stick_z(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", CphysfnoWarning)
             z = refined_member(calibration, x).building().simulate(motions[rows]).displacement
-        u, z = truth.displacement[rows], z[:, :, floors]
-        return np.where(np.isfinite(z), z - u, -u)  # a collapsed stick's NaN as zero
-
-    def relative_l2(residual: np.ndarray, rows: np.ndarray) -> float:
-        return float(np.sqrt(np.sum(residual**2) / np.sum(truth.displacement[rows] ** 2)))
+        z = z[:, :, floors]
+        return np.where(np.isfinite(z), z, 0.0)  # a collapsed stick's NaN as zero
 
     def stick_error(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        scale = np.sqrt(np.sum(truth.displacement[rows] ** 2))
-        return stick_residual(x, rows).ravel() / scale
+        u = truth.displacement[rows]
+        return (stick_z(x, rows) - u).ravel() / np.sqrt(np.sum(u**2))
 
     d = calibration.stiffness.size
     space = LAW_SPACES[calibration.law]
@@ -184,13 +186,14 @@ def refine(
         x_scale=0.1,
         max_nfev=MAX_EVALUATIONS,
     )
-    before = stick_residual(x0, kept)  # both subsets in one simulation
+    before = stick_z(x0, kept)  # both subsets in one simulation
     in_fitted = np.isin(kept, fitted)
+    u = truth.displacement
     errors = {
-        "fitted_before": relative_l2(before[in_fitted], fitted),
+        "fitted_before": pooled_relative_l2(before[in_fitted], u[fitted]),
         "fitted_after": float(np.linalg.norm(result.fun)),  # the residual at result.x
-        "held_out_before": relative_l2(before[~in_fitted], held),
-        "held_out_after": relative_l2(stick_residual(result.x, held), held),
+        "held_out_before": pooled_relative_l2(before[~in_fitted], u[held]),
+        "held_out_after": pooled_relative_l2(stick_z(result.x, held), u[held]),
     }
     choice = {"pushover": errors["held_out_before"], "refined": errors["held_out_after"]}
     accepted = errors["held_out_before"] > FOLLOWS and first_within_tie(choice) == "refined"
