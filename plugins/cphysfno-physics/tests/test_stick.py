@@ -532,21 +532,70 @@ def test_a_law_that_cannot_be_the_buildings_is_refined_on_records(motions, tmp_p
     )
 
 
+def test_a_shape_the_backbone_cannot_mend_is_refitted_with_the_whole_law(
+    bouc_wen_building, bouc_wen_stick
+):
+    """The Bouc-Wen stick of a Bouc-Wen building with its unloading share put wrong (0.15
+    for 0.5): refining the stiffness, yield drift and alpha cannot mend it; refitting the
+    whole law finds the share again (the whole exponent held), the building's own law,
+    and the records held out choose it."""
+    calibration = bouc_wen_stick.calibration_
+    rows = stick_refinement.story_rows(calibration)
+    assert rows[:, 3] == pytest.approx(3.0) and rows[:, 4] == pytest.approx(0.5, abs=1e-3)
+    rows[:, 4] = 0.15
+    wrong = stick_refinement.refined_member(calibration, rows)
+    refined = stick_refinement.refine(
+        bouc_wen_building, wrong, bouc_wen_stick.floors_, [0.0025, 0.005, 0.01], 12
+    )
+    refinement = refined.refinement
+    by_refinement = refinement["held_out_by_refinement"]
+    assert refinement["accepted"] and refinement["refined"] == "whole law"
+    assert by_refinement["whole law"] < 1e-6 < 0.1 < by_refinement["backbone"]
+    assert by_refinement["backbone"] < refinement["held_out_before"]
+    found = stick_refinement.story_rows(refined)
+    assert found[:, 3] == pytest.approx(3.0, abs=1e-6)
+    assert found[:, 4] == pytest.approx(0.5, abs=1e-6)
+    assert "the law's shape refitted too" in stick_figures.refinement_line(refinement)
+
+
 def test_too_few_refinement_records_leave_the_pushover_fit_and_say_so(bilinear_building):
     with pytest.warns(CphysfnoWarning, match="too few to fit on some and check on the others"):
         stick = Stick(**FAST, laws=("bilinear",), refine_records=2).fit(bilinear_building)
     assert stick.calibration_.refinement is None
 
 
-def test_a_bouc_wen_yield_drift_scaled_keeps_its_saturation_at_the_yield_drift():
-    parameters = stick_calibration._bouc_wen(0.1, 0.01, (3.0, 0.3))
-    per_story = {key: [value, value] for key, value in parameters.items()}
-    scaled = LAW_SPACES["bouc-wen"].yield_scaled(per_story, np.array([2.0, 0.5]))
-    assert scaled["yield_displacement"] == pytest.approx([0.02, 0.005])
-    saturation = (np.add(scaled["beta"], scaled["gamma"])) ** (-1.0 / 3.0)
-    assert saturation == pytest.approx([0.02, 0.005])
-    assert np.divide(scaled["beta"], scaled["gamma"]) == pytest.approx([0.3 / 0.7] * 2)
-    assert scaled["alpha"] == per_story["alpha"] and scaled["exponent"] == [3.0, 3.0]
+def test_a_refined_bouc_wen_yield_drift_keeps_its_saturation_at_the_yield_drift(bouc_wen_stick):
+    """A yield factor rebuilds the law at the new yield drift with the same shape: the
+    hysteretic part saturates there ((beta + gamma)^(-1/n)) and unloads alike."""
+    calibration = bouc_wen_stick.calibration_
+    rows = stick_refinement.story_rows(calibration)
+    rows[:, 2] = np.log([2.0, 0.5, 1.0])
+    before = calibration.fits["bouc-wen"].parameters
+    after = stick_refinement.refined_member(calibration, rows).fits["bouc-wen"].parameters
+    u_y = np.multiply(before["yield_displacement"], [2.0, 0.5, 1.0])
+    assert after["yield_displacement"] == pytest.approx(u_y, rel=1e-12)
+    exponent = np.asarray(after["exponent"])
+    saturation = np.add(after["beta"], after["gamma"]) ** (-1.0 / exponent)
+    assert saturation == pytest.approx(u_y, rel=1e-9)
+    ratio = np.divide(after["beta"], after["gamma"])
+    assert ratio == pytest.approx(np.divide(before["beta"], before["gamma"]), rel=1e-9)
+    assert after["alpha"] == pytest.approx(before["alpha"]) and exponent == pytest.approx(3.0)
+
+
+@pytest.mark.parametrize("name", sorted(LAW_SPACES))
+def test_a_laws_shape_is_read_back_from_its_parameters(name):
+    """``shape_of`` inverts ``parameters`` for the shape, story by story: Bouc-Wen's share
+    is beta / (beta + gamma), the cracking drift's ratio is over the yield drift."""
+    space = LAW_SPACES[name]
+    shapes = [
+        [low + (high - low) * fraction for low, high in space.shape_bounds]
+        for fraction in (0.25, 0.6)
+    ]
+    stories = [
+        space.parameters(0.1, u_y, shape) for u_y, shape in zip((0.01, 0.03), shapes, strict=True)
+    ]
+    parameters = {key: [story[key] for story in stories] for key in stories[0]}
+    assert space.shape_of(parameters) == pytest.approx(np.reshape(shapes, (2, -1)), rel=1e-12)
 
 
 def test_a_law_start_whose_story_test_overflows_loses_instead_of_stopping_the_fit(

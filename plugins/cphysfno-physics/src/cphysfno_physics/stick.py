@@ -51,12 +51,13 @@ class Stick(PhysicsPreprocessor):
     (:mod:`~cphysfno_physics.stick_probes`; the structure is analysed on them once; springs
     alone where they follow it within :data:`~.stick_probes.FOLLOWS`, as the cheaper
     stick), else the one that fits the pushovers best. With ``refine_records`` the chosen stick's
-    story stiffnesses, yield drifts and post-yield ratios are then refined on the
-    structure's response to that many synthetic records, and kept where records held out
-    of the fit confirm them (:mod:`~cphysfno_physics.stick_refinement`). :meth:`transform`
-    simulates that building on its compiled kernel, by default on central difference
-    where that stays within :data:`~.stick_probes.INTEGRATOR_TOLERANCE` of Runge-Kutta
-    under the probe pulses (``integrator``); the structure is not called again.
+    story stiffnesses, yield drifts and post-yield ratios, then its whole law, are refined
+    on the structure's response to that many synthetic records, and the refinement closer
+    on records held out of the fit is kept where they confirm it
+    (:mod:`~cphysfno_physics.stick_refinement`). :meth:`transform` simulates that
+    building on its compiled kernel, by default on central difference where that stays
+    within :data:`~.stick_probes.INTEGRATOR_TOLERANCE` of Runge-Kutta under the probe
+    pulses (``integrator``); the structure is not called again.
 
     The stick has one degree of freedom a floor: it cannot follow torsion, strong higher
     modes or a building whose stories do not behave as shear springs (a soft first story
@@ -119,9 +120,10 @@ class Stick(PhysicsPreprocessor):
             12,
             ge=0,
             description="synthetic records (spectrum-compatible) the structure is analysed "
-            "on to refine each story's stiffness, yield drift and post-yield ratio against "
-            "its response, every third held out to check that the refinement is closer "
-            "(0: the pushover fit alone)",
+            "on to refine each story's stiffness, yield drift and post-yield ratio, then "
+            "the law's shape too, against its response, every third held out to choose "
+            "between the two and check that the refinement is closer (0: the pushover fit "
+            "alone)",
         )
         integrator: Literal["choose", "runge-kutta", "central-difference"] = Field(
             "choose",

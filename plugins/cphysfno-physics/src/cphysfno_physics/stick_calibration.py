@@ -92,9 +92,10 @@ class LawSpace:
             not one itself (Bouc-Wen's share of ``beta`` and ``gamma``).
         parameters: ``parameters(alpha, u_y, shape) -> dict`` of the law's ``Params``
             fields for one story (``u_y`` in m).
-        yield_scaled: ``yield_scaled(parameters, factors) -> parameters``: the law's
-            parameters (one value per story of each) with each story's yield drift times
-            its factor (``[d]``) and the shape unchanged.
+        unnamed_shape: ``unnamed_shape(parameters) -> [d]`` the value of the shape
+            parameter that is not one of the law's own (the one ``shape_names`` leaves
+            None), from the law's parameters (``[d]`` arrays by name); None where every
+            shape parameter is the law's own.
         whole_shapes: indices of the shape parameters the law evaluates faster where
             they are whole numbers (Bouc-Wen's exponent: by multiplication instead of a
             power); :func:`fit_law` rounds them where the fit ties.
@@ -108,12 +109,18 @@ class LawSpace:
     parameters: Callable[[float, float, Sequence[float]], dict[str, float]] = field(
         default=lambda alpha, u_y, shape: {"alpha": alpha, "yield_displacement": u_y}
     )
-    yield_scaled: Callable[[dict[str, list[float]], np.ndarray], dict[str, list[float]]] = field(
-        default=lambda parameters, factors: _lengths_scaled(
-            parameters, factors, ("yield_displacement",)
-        )
-    )
+    unnamed_shape: Callable[[Mapping[str, np.ndarray]], np.ndarray] | None = None
     whole_shapes: tuple[int, ...] = ()
+
+    def shape_of(self, parameters: Mapping[str, Sequence[float]]) -> np.ndarray:
+        """``[d, n_shape]`` each story's shape parameters from the law's parameters (one
+        value per story of each): the inverse of :attr:`parameters` for the shape."""
+        arrays = {key: np.asarray(value, dtype=np.float64) for key, value in parameters.items()}
+        columns = [
+            arrays[name] if name else self.unnamed_shape(arrays) for name in self.shape_names
+        ]
+        d = arrays["yield_displacement"].size
+        return np.column_stack(columns) if columns else np.empty((d, 0))
 
     def held_within_fit(self, story_law: dict[str, Any]) -> dict[str, Any]:
         """``story_law`` (a ``shear-building``'s, one value per story of each parameter)
@@ -142,28 +149,6 @@ def _bouc_wen(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, flo
         "beta": share * scale,
         "gamma": (1.0 - share) * scale,
     }
-
-
-def _lengths_scaled(
-    parameters: dict[str, list[float]], factors: np.ndarray, lengths: Sequence[str]
-) -> dict[str, list[float]]:
-    """``parameters`` with each of ``lengths`` (drifts, m) times each story's factor."""
-    scaled = dict(parameters)
-    for name in lengths:
-        scaled[name] = (np.asarray(parameters[name], dtype=np.float64) * factors).tolist()
-    return scaled
-
-
-def _bouc_wen_yield_scaled(
-    parameters: dict[str, list[float]], factors: np.ndarray
-) -> dict[str, list[float]]:
-    """The yield drift times ``factors`` and ``beta``, ``gamma`` times ``factors^-n``:
-    the hysteretic part saturates at the new yield drift with the same unloading shape."""
-    scaled = _lengths_scaled(parameters, factors, ("yield_displacement",))
-    power = factors ** -np.asarray(parameters["exponent"], dtype=np.float64)
-    for name in ("beta", "gamma"):
-        scaled[name] = (np.asarray(parameters[name], dtype=np.float64) * power).tolist()
-    return scaled
 
 
 def _pinching(alpha: float, u_y: float, shape: Sequence[float]) -> dict[str, float]:
@@ -200,7 +185,7 @@ LAW_SPACES = {
         shape_bounds=((1.0, 20.0), (0.02, 0.98)),
         shape_names=("exponent", None),
         parameters=_bouc_wen,
-        yield_scaled=_bouc_wen_yield_scaled,
+        unnamed_shape=lambda p: p["beta"] / (p["beta"] + p["gamma"]),
         whole_shapes=(0,),
     ),
     "pinching": LawSpace(
@@ -230,9 +215,7 @@ LAW_SPACES = {
             "crack_hysteresis",
         ),
         parameters=_cracked_pinching,
-        yield_scaled=lambda parameters, factors: _lengths_scaled(
-            parameters, factors, ("yield_displacement", "crack_displacement")
-        ),
+        unnamed_shape=lambda p: p["crack_displacement"] / p["yield_displacement"],
     ),
 }
 """The laws the calibration can fit, by name."""

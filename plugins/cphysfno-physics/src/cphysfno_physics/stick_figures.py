@@ -150,9 +150,17 @@ def refinement_line(refinement: dict) -> str:
         f"{k:.2f}/{y:.2f}"
         for k, y in zip(refinement["stiffness_factors"], refinement["yield_factors"], strict=True)
     )
-    return (
+    line = (
         f"The stick was refined on {refinement['records']} synthetic records ({errors}): "
-        f"factors on each story's stiffness/yield drift {factors}."
+        f"factors on each story's stiffness/yield drift {factors}"
+    )
+    held_out = refinement.get("held_out_by_refinement", {})
+    if "whole law" not in held_out:
+        return line + "."
+    shape = "refitted too" if refinement["refined"] == "whole law" else "kept"
+    return (
+        f"{line}; the law's shape {shape} (held out: {held_out['backbone']:.3f} with the "
+        f"backbone refined, {held_out['whole law']:.3f} with the whole law)."
     )
 
 

@@ -1,24 +1,36 @@
-"""The stick's backbone refined on the structure's own response to synthetic records.
+"""The stick refined on the structure's own response to synthetic records.
 
 The pushovers fit each story statically, under one lateral pattern; under a record the
 stories of a frame share the drift otherwise (a cracked RC frame's stories soften at
-other drifts than its first-mode pushover shows them to). The refinement analyses the
-structure on a few synthetic records (``spectrum-compatible`` with its default scenario,
+other drifts than its first-mode pushover shows them to), and its loops dissipate
+otherwise than the pushovers' cycles show. The refinement analyses the structure on a
+few synthetic records (``spectrum-compatible`` with its default scenario,
 :data:`DURATION` long, seed :data:`SEED`), each scaled so that the pushover-fitted stick
 reaches a roof drift ratio between the smallest and the largest of the amplitudes asked,
-and fits per story the stick's initial stiffness (a factor within
-``exp(+-STIFFNESS_RANGE)``), the law's post-yield ratio ``alpha`` (within its fit bounds)
-and its yield drift (a factor within ``exp(+-YIELD_RANGE)``) by least squares on the
-floor displacements. The law's shape parameters (pinching, cracking share, Bouc-Wen's
-exponent) stay the pushovers'. Every :data:`HELD_OUT_EVERY`-th record is held out: the
-refined stick is kept only where the pushover-fitted one is further than
-:data:`~.stick_probes.FOLLOWS` from the structure on them and the refined one closer by
-more than a tie (:data:`~.stick_calibration.TIE`).
+and fits the stick to their floor displacements, twice (the second starting where the
+first ended), by Powell's derivative-free search on the relative L2 (within bounds, at
+most :data:`EVALUATIONS_PER_UNKNOWN` simulations of the stick per unknown; least squares
+on finite differences of a hysteretic response stall near their start, where a step
+crosses a yield event):
+
+- ``"backbone"``: per story the initial stiffness (a factor within
+  ``exp(+-STIFFNESS_RANGE)``), the law's post-yield ratio ``alpha`` (within its fit
+  bounds) and its yield drift (a factor within ``exp(+-YIELD_RANGE)``), the law's shape
+  (pinching, cracking, Bouc-Wen's exponent and unloading share) the pushovers';
+- ``"whole law"``: the shape parameters too (within their fit bounds), but a law's whole
+  ones (Bouc-Wen's exponent where the pushovers rounded it), for laws that have a shape.
+
+Every :data:`HELD_OUT_EVERY`-th record is held out. Of the two refinements the one
+closer to the structure on them is taken (the backbone one where they tie,
+:data:`~.stick_calibration.TIE`), and it is kept only where the pushover-fitted stick is
+further than :data:`~.stick_probes.FOLLOWS` from the structure on them and the refined
+one closer by more than a tie.
 """
 
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -56,8 +68,16 @@ STIFFNESS_RANGE = 0.3
 YIELD_RANGE = 0.7
 """Largest ``|ln|`` of the factor on a story's yield drift."""
 
-MAX_EVALUATIONS = 60
-"""Least-squares evaluations of the stick (the Jacobian's aside)."""
+EVALUATIONS_PER_UNKNOWN = 30
+"""Simulations of the stick on the records fitted that each refinement may take, per
+unknown it fits."""
+
+TOLERANCES = {"xtol": 1e-3, "ftol": 1e-4}
+"""When Powell's search stops: a step in the unknowns (factors' logarithms, ratios) and
+a relative change of the squared error below these."""
+
+POLISH_EVALUATIONS = 30
+"""Least-squares evaluations of the stick after Powell's search (the Jacobian's aside)."""
 
 
 def refinement_records(
@@ -93,20 +113,33 @@ def refinement_records(
     return GroundMotions(scales[:, None] * records.acceleration, records.dt)
 
 
-def refined_member(calibration: StickCalibration, x: np.ndarray) -> StickCalibration:
-    """The calibration with ``x = [ln stiffness factors, alpha, ln yield factors]`` (each
-    ``[d]``) applied to its story stiffnesses and its chosen law, and the periods of the
-    stick so made; the law's pushover fit errors are left empty (:func:`with_fit_errors`)."""
-    d = calibration.stiffness.size
-    stiffness = calibration.stiffness * np.exp(x[:d])
-    parameters = dict(calibration.fits[calibration.law].parameters)
-    parameters["alpha"] = list(x[d : 2 * d])
-    parameters = LAW_SPACES[calibration.law].yield_scaled(parameters, np.exp(x[2 * d :]))
+def story_rows(calibration: StickCalibration) -> np.ndarray:
+    """``[d, 3 + n_shape]`` the refinement's unknowns of each story for the stick as it
+    is: ``[ln stiffness factor (0), alpha, ln yield factor (0), shape...]``."""
+    parameters = calibration.fits[calibration.law].parameters
+    alpha = np.asarray(parameters["alpha"], dtype=np.float64)
+    zeros = np.zeros_like(alpha)
+    shape = LAW_SPACES[calibration.law].shape_of(parameters)
+    return np.column_stack([zeros, alpha, zeros, shape])
+
+
+def refined_member(calibration: StickCalibration, rows: np.ndarray) -> StickCalibration:
+    """The calibration with ``rows`` (:func:`story_rows`'s layout) applied to its story
+    stiffnesses and its chosen law, and the periods of the stick so made; the law's
+    pushover fit errors are left empty (:func:`with_fit_errors`)."""
+    stiffness = calibration.stiffness * np.exp(rows[:, 0])
+    space = LAW_SPACES[calibration.law]
+    parameters = calibration.fits[calibration.law].parameters
+    u_y = np.asarray(parameters["yield_displacement"], dtype=np.float64) * np.exp(rows[:, 2])
+    per_story = [
+        space.parameters(float(row[1]), float(y), row[3:]) for row, y in zip(rows, u_y, strict=True)
+    ]
+    new = {key: [float(story[key]) for story in per_story] for key in per_story[0]}
     masses, coupling = calibration.backbone.masses, calibration.coupling
     return replace(
         calibration,
         stiffness=stiffness,
-        fits={**calibration.fits, calibration.law: LawFit(parameters, [])},
+        fits={**calibration.fits, calibration.law: LawFit({**parameters, **new}, [])},
         stick_periods=chain_periods(masses, stiffness, coupling)[: calibration.periods.size],
     )
 
@@ -130,9 +163,10 @@ def refine(
     favour the refinement or the stick followed the structure within
     :data:`~.stick_probes.FOLLOWS` already; either way with ``refinement`` saying what was
     done (the relative L2 against the structure before and after, on the records fitted
-    and the records held out, and the factors found). Where the structure survives too
-    few records to fit on some and check on others, nothing is refined and a
-    :class:`~cphysfno_core.CphysfnoWarning` says so.
+    and the records held out, each refinement's on those held out, which refinement was
+    taken, and its factors). Where the structure survives too few records to fit on some
+    and check on others, nothing is refined and a :class:`~cphysfno_core.CphysfnoWarning`
+    says so.
 
     Args:
         structure: the structure the stick was fitted to.
@@ -156,55 +190,121 @@ def refine(
         )
         return calibration
 
-    def stick_z(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    def stick_z(rows: np.ndarray, subset: np.ndarray) -> np.ndarray:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", CphysfnoWarning)
-            z = refined_member(calibration, x).building().simulate(motions[rows]).displacement
-        z = z[:, :, floors]
+            member = refined_member(calibration, rows).building()
+            z = member.simulate(motions[subset]).displacement[:, :, floors]
         return np.where(np.isfinite(z), z, 0.0)  # a collapsed stick's NaN as zero
 
-    def stick_error(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        u = truth.displacement[rows]
-        return (stick_z(x, rows) - u).ravel() / np.sqrt(np.sum(u**2))
+    def stick_error(x: np.ndarray, free: np.ndarray, base: np.ndarray) -> np.ndarray:
+        """The stick's error on the records fitted, ``x`` for ``base[free]``, over the
+        norm of their displacements (its norm is the relative L2)."""
+        rows = base.copy()
+        rows[free] = x
+        u = truth.displacement[fitted]
+        return (stick_z(rows, fitted) - u).ravel() / np.sqrt(np.sum(u**2))
 
-    d = calibration.stiffness.size
-    space = LAW_SPACES[calibration.law]
-    alpha = np.asarray(calibration.fits[calibration.law].parameters["alpha"], dtype=np.float64)
-    lower = np.concatenate(
-        [np.full(d, -STIFFNESS_RANGE), np.full(d, space.alpha_bounds[0]), np.full(d, -YIELD_RANGE)]
-    )
-    upper = np.concatenate(
-        [np.full(d, STIFFNESS_RANGE), np.full(d, space.alpha_bounds[1]), np.full(d, YIELD_RANGE)]
-    )
-    x0 = np.clip(np.concatenate([np.zeros(d), alpha, np.zeros(d)]), lower, upper)
-    result = scipy.optimize.least_squares(
-        stick_error,
-        x0,
-        bounds=(lower, upper),
-        args=(fitted,),
-        diff_step=1e-3,
-        x_scale=0.1,
-        max_nfev=MAX_EVALUATIONS,
-    )
-    before = stick_z(x0, kept)  # both subsets in one simulation
+    lower, upper = _bounds(calibration)
+    start = story_rows(calibration)
+    found, fitted_after = {}, {}
+    base = start
+    for name, free in _free_unknowns(calibration).items():
+        x = _searched(stick_error, base[free], lower[free], upper[free], (free, base))
+        fitted_after[name] = float(np.linalg.norm(stick_error(x, free, base)))
+        base = base.copy()
+        base[free] = x
+        found[name] = base
+    before = stick_z(start, kept)  # both subsets in one simulation
     in_fitted = np.isin(kept, fitted)
     u = truth.displacement
-    errors = {
-        "fitted_before": pooled_relative_l2(before[in_fitted], u[fitted]),
-        "fitted_after": float(np.linalg.norm(result.fun)),  # the residual at result.x
-        "held_out_before": pooled_relative_l2(before[~in_fitted], u[held]),
-        "held_out_after": pooled_relative_l2(stick_z(result.x, held), u[held]),
+    held_out_after = {
+        name: pooled_relative_l2(stick_z(rows, held), u[held]) for name, rows in found.items()
     }
-    choice = {"pushover": errors["held_out_before"], "refined": errors["held_out_after"]}
-    accepted = errors["held_out_before"] > FOLLOWS and first_within_tie(choice) == "refined"
+    refined = first_within_tie(held_out_after)
+    held_out_before = pooled_relative_l2(before[~in_fitted], u[held])
+    choice = {"pushover": held_out_before, "refined": held_out_after[refined]}
+    accepted = held_out_before > FOLLOWS and first_within_tie(choice) == "refined"
+    rows = found[refined]
     refinement = {
         "records": n_records,
         "fitted": int(fitted.size),
         "held_out": int(held.size),
-        **errors,
+        "fitted_before": pooled_relative_l2(before[in_fitted], u[fitted]),
+        "fitted_after": fitted_after[refined],  # the residual at the refinement's end
+        "held_out_before": held_out_before,
+        "held_out_after": held_out_after[refined],
+        "refined": refined,
+        "held_out_by_refinement": held_out_after,
         "accepted": accepted,
-        "stiffness_factors": np.exp(result.x[:d]).tolist(),
-        "yield_factors": np.exp(result.x[2 * d :]).tolist(),
+        "stiffness_factors": np.exp(rows[:, 0]).tolist(),
+        "yield_factors": np.exp(rows[:, 2]).tolist(),
     }
-    chosen = with_fit_errors(refined_member(calibration, result.x)) if accepted else calibration
+    chosen = with_fit_errors(refined_member(calibration, rows)) if accepted else calibration
     return replace(chosen, refinement=refinement)
+
+
+def _searched(
+    error: Callable[..., np.ndarray],
+    x0: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    args: tuple,
+) -> np.ndarray:
+    """The ``x`` within bounds where ``|error(x, *args)|`` is least: Powell's search
+    from ``x0`` (:data:`EVALUATIONS_PER_UNKNOWN`, :data:`TOLERANCES`), then least squares
+    on finite differences from where it ended (:data:`POLISH_EVALUATIONS`), which close
+    in fast where the response is smooth in ``x`` and keep Powell's end where not."""
+    start = np.clip(x0, lower, upper)
+    powell = scipy.optimize.minimize(
+        lambda x: float(np.sum(error(x, *args) ** 2)),
+        start,
+        method="Powell",
+        bounds=scipy.optimize.Bounds(lower, upper),
+        options={"maxfev": EVALUATIONS_PER_UNKNOWN * start.size, **TOLERANCES},
+    )
+    polished = scipy.optimize.least_squares(
+        error,
+        np.clip(powell.x, lower, upper),
+        bounds=(lower, upper),
+        args=args,
+        diff_step=1e-3,
+        x_scale=0.1,
+        max_nfev=POLISH_EVALUATIONS,
+    )
+    return polished.x
+
+
+def _bounds(calibration: StickCalibration) -> tuple[np.ndarray, np.ndarray]:
+    """``([d, 3 + n_shape] lower, upper)`` bounds of :func:`story_rows`'s unknowns."""
+    space = LAW_SPACES[calibration.law]
+    d = calibration.stiffness.size
+    low = [
+        -STIFFNESS_RANGE,
+        space.alpha_bounds[0],
+        -YIELD_RANGE,
+        *(b[0] for b in space.shape_bounds),
+    ]
+    high = [
+        STIFFNESS_RANGE,
+        space.alpha_bounds[1],
+        YIELD_RANGE,
+        *(b[1] for b in space.shape_bounds),
+    ]
+    return np.tile(low, (d, 1)), np.tile(high, (d, 1))
+
+
+def _free_unknowns(calibration: StickCalibration) -> dict[str, np.ndarray]:
+    """``{refinement: [d, 3 + n_shape] mask}`` the unknowns each refinement fits, in order
+    (each starts where the one before ended): ``"backbone"`` the stiffness, ``alpha`` and
+    the yield drift; ``"whole law"`` the shape parameters too, but the law's whole ones
+    (:attr:`~.stick_calibration.LawSpace.whole_shapes`), where it has any others."""
+    space = LAW_SPACES[calibration.law]
+    d, width = calibration.stiffness.size, 3 + len(space.shape_bounds)
+    backbone = np.zeros((d, width), dtype=bool)
+    backbone[:, :3] = True
+    whole = np.ones((d, width), dtype=bool)
+    whole[:, [3 + index for index in space.whole_shapes]] = False
+    if np.array_equal(whole, backbone):
+        return {"backbone": backbone}
+    return {"backbone": backbone, "whole law": whole}
