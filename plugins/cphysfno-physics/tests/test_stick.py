@@ -486,12 +486,16 @@ def test_a_calibration_saved_before_the_integrator_choice_stays_on_runge_kutta(b
 
 
 def test_a_stick_that_is_the_building_is_not_refined(bilinear_stick):
-    """The pushovers found the building's own laws: on the synthetic records nothing is
-    closer by more than a tie, so the stick stays as fitted, and says so."""
+    """The pushovers found the building's own laws: on the synthetic records held out the
+    stick follows the building within FOLLOWS, so nothing is searched, the stick stays as
+    fitted, and the summary says so."""
     refinement = bilinear_stick.calibration_.refinement
-    assert refinement["accepted"] is False
+    assert refinement["accepted"] is False and refinement["refined"] is None
+    assert "held_out_after" not in refinement
     assert refinement["fitted"] + refinement["held_out"] == refinement["records"] == 12
     assert refinement["held_out_before"] < 1e-3
+    line = stick_figures.refinement_line(refinement)
+    assert "checked on 12 synthetic records" in line and "nothing was refined" in line
 
 
 def test_a_law_that_cannot_be_the_buildings_is_refined_on_records(motions, tmp_path, monkeypatch):

@@ -289,10 +289,13 @@ class StickCalibration:
             chosen by it, else None.
         refinement: where the stick was refined on synthetic records
             (:func:`~.stick_refinement.refine`): how many were fitted and held out, the
-            relative L2 against the structure on each before and after, whether the
-            refinement was kept (``accepted``; the stiffnesses and the chosen law's
-            parameters are then the refined ones) and the factors found on each story's
-            stiffness and yield drift; else None.
+            relative L2 against the structure on each before and after, which refinement
+            was taken (``refined``: ``"backbone"``, ``"whole law"``, or None where the
+            stick followed the structure already and nothing was searched, with no
+            "after" values) and each one's error on the records held out, whether it was
+            kept (``accepted``; the stiffnesses and the chosen law's parameters are then
+            the refined ones) and the factors found on each story's stiffness and yield
+            drift; else None.
     """
 
     backbone: StoryPushover

@@ -133,6 +133,13 @@ def _cheaper_form_lines(calibration: StickCalibration) -> list[str]:
 
 def refinement_line(refinement: dict) -> str:
     """What the refinement on synthetic records did, in one Markdown paragraph."""
+    if "held_out_after" not in refinement:  # the pushovers' stick followed already
+        return (
+            f"The stick was checked on {refinement['records']} synthetic records and kept as "
+            f"the pushovers fitted it: on the {refinement['held_out']} held out it is "
+            f"{refinement['held_out_before']:.3f} from the structure (relative L2), within "
+            f"{FOLLOWS:.0%}, so nothing was refined."
+        )
     errors = (
         f"relative L2 against the structure on the {refinement['fitted']} records fitted "
         f"{refinement['fitted_before']:.3f} -> {refinement['fitted_after']:.3f}, on the "
@@ -143,8 +150,7 @@ def refinement_line(refinement: dict) -> str:
         return (
             f"The stick was refined on {refinement['records']} synthetic records ({errors}) "
             "and kept as the pushovers fitted it: the records held out do not favour the "
-            f"refinement, or the stick was within {FOLLOWS:.0%} of the structure on them "
-            "already."
+            "refinement."
         )
     factors = ", ".join(
         f"{k:.2f}/{y:.2f}"

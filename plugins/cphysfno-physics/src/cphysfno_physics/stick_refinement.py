@@ -20,11 +20,11 @@ crosses a yield event):
 - ``"whole law"``: the shape parameters too (within their fit bounds), but a law's whole
   ones (Bouc-Wen's exponent where the pushovers rounded it), for laws that have a shape.
 
-Every :data:`HELD_OUT_EVERY`-th record is held out. Of the two refinements the one
-closer to the structure on them is taken (the backbone one where they tie,
-:data:`~.stick_calibration.TIE`), and it is kept only where the pushover-fitted stick is
-further than :data:`~.stick_probes.FOLLOWS` from the structure on them and the refined
-one closer by more than a tie.
+Every :data:`HELD_OUT_EVERY`-th record is held out. Where the pushover-fitted stick is
+within :data:`~.stick_probes.FOLLOWS` of the structure on them, nothing is searched.
+Else of the two refinements the one closer to the structure on them is taken (the
+backbone one where they tie, :data:`~.stick_calibration.TIE`), and it is kept only where
+it is closer than the pushover-fitted stick by more than a tie.
 """
 
 from __future__ import annotations
@@ -161,10 +161,11 @@ def refine(
     """The calibration refined on the structure's response to ``n_records`` synthetic
     records (:func:`refinement_records`), or as it was where the held-out records do not
     favour the refinement or the stick followed the structure within
-    :data:`~.stick_probes.FOLLOWS` already; either way with ``refinement`` saying what was
-    done (the relative L2 against the structure before and after, on the records fitted
-    and the records held out, each refinement's on those held out, which refinement was
-    taken, and its factors). Where the structure survives too few records to fit on some
+    :data:`~.stick_probes.FOLLOWS` on them already (then nothing is searched,
+    ``refined`` is None); either way with ``refinement`` saying what was done (the
+    relative L2 against the structure before and after, on the records fitted and the
+    records held out, each refinement's on those held out, which refinement was taken,
+    and its factors). Where the structure survives too few records to fit on some
     and check on others, nothing is refined and a :class:`~cphysfno_core.CphysfnoWarning`
     says so.
 
@@ -205,8 +206,20 @@ def refine(
         u = truth.displacement[fitted]
         return (stick_z(rows, fitted) - u).ravel() / np.sqrt(np.sum(u**2))
 
-    lower, upper = _bounds(calibration)
     start = story_rows(calibration)
+    before = stick_z(start, kept)  # both subsets in one simulation
+    in_fitted = np.isin(kept, fitted)
+    u = truth.displacement
+    checked = {
+        "records": n_records,
+        "fitted": int(fitted.size),
+        "held_out": int(held.size),
+        "fitted_before": pooled_relative_l2(before[in_fitted], u[fitted]),
+        "held_out_before": pooled_relative_l2(before[~in_fitted], u[held]),
+    }
+    if checked["held_out_before"] <= FOLLOWS:  # nothing to refine
+        return replace(calibration, refinement={**checked, "accepted": False, "refined": None})
+    lower, upper = _bounds(calibration)
     found, fitted_after = {}, {}
     base = start
     for name, free in _free_unknowns(calibration).items():
@@ -215,24 +228,16 @@ def refine(
         base = base.copy()
         base[free] = x
         found[name] = base
-    before = stick_z(start, kept)  # both subsets in one simulation
-    in_fitted = np.isin(kept, fitted)
-    u = truth.displacement
     held_out_after = {
         name: pooled_relative_l2(stick_z(rows, held), u[held]) for name, rows in found.items()
     }
     refined = first_within_tie(held_out_after)
-    held_out_before = pooled_relative_l2(before[~in_fitted], u[held])
-    choice = {"pushover": held_out_before, "refined": held_out_after[refined]}
-    accepted = held_out_before > FOLLOWS and first_within_tie(choice) == "refined"
+    choice = {"pushover": checked["held_out_before"], "refined": held_out_after[refined]}
+    accepted = first_within_tie(choice) == "refined"
     rows = found[refined]
     refinement = {
-        "records": n_records,
-        "fitted": int(fitted.size),
-        "held_out": int(held.size),
-        "fitted_before": pooled_relative_l2(before[in_fitted], u[fitted]),
+        **checked,
         "fitted_after": fitted_after[refined],  # the residual at the refinement's end
-        "held_out_before": held_out_before,
         "held_out_after": held_out_after[refined],
         "refined": refined,
         "held_out_by_refinement": held_out_after,
