@@ -122,6 +122,18 @@ class LawSpace:
         d = arrays["yield_displacement"].size
         return np.column_stack(columns) if columns else np.empty((d, 0))
 
+    def story_parameters(
+        self, alpha: np.ndarray, u_y: np.ndarray, shapes: np.ndarray
+    ) -> dict[str, list[float]]:
+        """The law's parameters, one value per story of each, from ``[d]`` ``alpha``,
+        ``[d]`` ``u_y`` (m) and ``[d, n_shape]`` shapes: :attr:`parameters` story by
+        story (the inverse of :meth:`shape_of` for the shape)."""
+        per_story = [
+            self.parameters(float(a), float(y), shape)
+            for a, y, shape in zip(alpha, u_y, shapes, strict=True)
+        ]
+        return {key: [float(story[key]) for story in per_story] for key in per_story[0]}
+
     def held_within_fit(self, story_law: dict[str, Any]) -> dict[str, Any]:
         """``story_law`` (a ``shear-building``'s, one value per story of each parameter)
         with each parameter the fit bounds held within those bounds: a calibration
@@ -479,13 +491,8 @@ def fit_law(
 
     def story_laws(x: np.ndarray) -> dict[str, Any]:
         rows = x.reshape(d, width)
-        per_story = [
-            space.parameters(float(r[0]), float(r[1] * u_y0[s]), r[2:]) for s, r in enumerate(rows)
-        ]
-        return {
-            "name": space.name,
-            **{key: tuple(float(p[key]) for p in per_story) for key in per_story[0]},
-        }
+        parameters = space.story_parameters(rows[:, 0], rows[:, 1] * u_y0, rows[:, 2:])
+        return {"name": space.name, **{key: tuple(value) for key, value in parameters.items()}}
 
     def shears(x: np.ndarray) -> np.ndarray:
         return replay(story_laws(x), curves, stiffness)

@@ -131,10 +131,7 @@ def refined_member(calibration: StickCalibration, rows: np.ndarray) -> StickCali
     space = LAW_SPACES[calibration.law]
     parameters = calibration.fits[calibration.law].parameters
     u_y = np.asarray(parameters["yield_displacement"], dtype=np.float64) * np.exp(rows[:, 2])
-    per_story = [
-        space.parameters(float(row[1]), float(y), row[3:]) for row, y in zip(rows, u_y, strict=True)
-    ]
-    new = {key: [float(story[key]) for story in per_story] for key in per_story[0]}
+    new = space.story_parameters(rows[:, 1], u_y, rows[:, 3:])
     masses, coupling = calibration.backbone.masses, calibration.coupling
     return replace(
         calibration,
@@ -223,10 +220,10 @@ def refine(
     found, fitted_after = {}, {}
     base = start
     for name, free in _free_unknowns(calibration).items():
-        x = _searched(stick_error, base[free], lower[free], upper[free], (free, base))
-        fitted_after[name] = float(np.linalg.norm(stick_error(x, free, base)))
+        result = _searched(stick_error, base[free], lower[free], upper[free], (free, base))
+        fitted_after[name] = float(np.linalg.norm(result.fun))  # the residual at result.x
         base = base.copy()
-        base[free] = x
+        base[free] = result.x
         found[name] = base
     held_out_after = {
         name: pooled_relative_l2(stick_z(rows, held), u[held]) for name, rows in found.items()
@@ -237,7 +234,7 @@ def refine(
     rows = found[refined]
     refinement = {
         **checked,
-        "fitted_after": fitted_after[refined],  # the residual at the refinement's end
+        "fitted_after": fitted_after[refined],
         "held_out_after": held_out_after[refined],
         "refined": refined,
         "held_out_by_refinement": held_out_after,
@@ -255,11 +252,12 @@ def _searched(
     lower: np.ndarray,
     upper: np.ndarray,
     args: tuple,
-) -> np.ndarray:
-    """The ``x`` within bounds where ``|error(x, *args)|`` is least: Powell's search
-    from ``x0`` (:data:`EVALUATIONS_PER_UNKNOWN`, :data:`TOLERANCES`), then least squares
-    on finite differences from where it ended (:data:`POLISH_EVALUATIONS`), which close
-    in fast where the response is smooth in ``x`` and keep Powell's end where not."""
+) -> scipy.optimize.OptimizeResult:
+    """Where within bounds ``|error(x, *args)|`` is least (``x``, and ``fun`` the error
+    there): Powell's search from ``x0`` (:data:`EVALUATIONS_PER_UNKNOWN`,
+    :data:`TOLERANCES`), then least squares on finite differences from where it ended
+    (:data:`POLISH_EVALUATIONS`), which close in fast where the response is smooth in
+    ``x`` and keep Powell's end where not."""
     start = np.clip(x0, lower, upper)
     powell = scipy.optimize.minimize(
         lambda x: float(np.sum(error(x, *args) ** 2)),
@@ -268,7 +266,7 @@ def _searched(
         bounds=scipy.optimize.Bounds(lower, upper),
         options={"maxfev": EVALUATIONS_PER_UNKNOWN * start.size, **TOLERANCES},
     )
-    polished = scipy.optimize.least_squares(
+    return scipy.optimize.least_squares(
         error,
         np.clip(powell.x, lower, upper),
         bounds=(lower, upper),
@@ -277,7 +275,6 @@ def _searched(
         x_scale=0.1,
         max_nfev=POLISH_EVALUATIONS,
     )
-    return polished.x
 
 
 def _bounds(calibration: StickCalibration) -> tuple[np.ndarray, np.ndarray]:
